@@ -1,0 +1,49 @@
+"""mobman: nonholonomic wheeled mobile manipulators.
+
+Importing mobman enables float64 in JAX: every kinematic quantity is computed in double precision.
+"""
+
+from __future__ import annotations
+
+import jax
+
+jax.config.update("jax_enable_x64", True)
+
+from mobman.errors import (  # noqa: E402
+    ConvergenceError,
+    InfeasibleTaskError,
+    InputError,
+    MobmanError,
+    ModelError,
+    SingularConfigurationError,
+)
+from mobman.model import (  # noqa: E402
+    Arm,
+    CarLike,
+    DifferentialDrive,
+    Joint,
+    LinkInertial,
+    MobileManipulator,
+    Mount,
+    Omnidirectional,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Arm",
+    "CarLike",
+    "ConvergenceError",
+    "DifferentialDrive",
+    "InfeasibleTaskError",
+    "InputError",
+    "Joint",
+    "LinkInertial",
+    "MobileManipulator",
+    "MobmanError",
+    "ModelError",
+    "Mount",
+    "Omnidirectional",
+    "SingularConfigurationError",
+    "__version__",
+]

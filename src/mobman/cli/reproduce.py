@@ -1,0 +1,42 @@
+"""``mobman reproduce NAME|all``: rebuild the papers' examples, figures and reports."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import typer
+from rich.console import Console
+
+from mobman.cli import app
+from mobman.errors import InputError
+from mobman.experiments import REPRODUCTIONS, module
+
+
+@app.command("reproduce")
+def reproduce_command(
+    name: str = typer.Argument(..., help=f"one of: all, {', '.join(REPRODUCTIONS)}"),
+    out: Path = typer.Option(Path("mobman-results"), "--out", help="Output folder (one subfolder per paper)."),
+    quick: bool = typer.Option(False, "--quick", help="Reduced resolution (as in the test suite)."),
+) -> None:
+    """Reproduce one paper's worked examples (or all of them) into OUT, with an index page."""
+    names = list(REPRODUCTIONS) if name == "all" else [name]
+    for n in names:
+        if n not in REPRODUCTIONS:
+            raise InputError(f"unknown reproduction {n!r}; choose among: all, {', '.join(REPRODUCTIONS)}")
+    console = Console(stderr=True)
+    rows = []
+    for n in names:
+        start = time.perf_counter()
+        with console.status(f"reproducing {n} …"):
+            result = module(n).run(out / n, quick=quick)
+        result.write(out / n)
+        elapsed = time.perf_counter() - start
+        console.print(f"[green]✓[/green] {n}: {result.title} ({elapsed:.1f} s) → {out / n}")
+        rows.append((n, result.title, elapsed))
+    if name == "all":
+        lines = ["# mobman reproductions", "", "| reproduction | paper | time (s) |", "|---|---|---|"]
+        lines += [f"| [{n}]({n}/report.md) | {title} | {t:.1f} |" for n, title, t in rows]
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "index.md").write_text("\n".join(lines) + "\n")
+        console.print(f"index: {out / 'index.md'}")

@@ -1,0 +1,34 @@
+"""``mobman robots``: list the built-in robots with their parameters and coordinates."""
+
+from __future__ import annotations
+
+import inspect
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from mobman.cli import app
+from mobman.io import dump_json
+from mobman.model.robots import ROBOTS
+
+
+@app.command("robots")
+def robots_command(json_output: bool = typer.Option(False, "--json", help="Print one JSON object.")) -> None:
+    """List the built-in robots, their parameters (defaults) and coordinate names."""
+    entries = []
+    for name, factory in ROBOTS.items():
+        robot = factory()
+        defaults = {p.name: p.default for p in inspect.signature(factory).parameters.values()}
+        entries.append({**robot.describe(), "name": name, "parameters": defaults,
+                        "summary": (factory.__doc__ or "").strip().splitlines()[0]})
+    if json_output:
+        typer.echo(dump_json({"robots": entries}))
+        return
+    table = Table(title="built-in robots")
+    for column in ("name", "parameters", "coordinates q", "task ξ", "summary"):
+        table.add_column(column, overflow="fold")
+    for e in entries:
+        params = ", ".join(f"{k}={v}" for k, v in e["parameters"].items()) or "—"
+        table.add_row(e["name"], params, ", ".join(e["coordinates"]), ", ".join(e["task"]), e["summary"])
+    Console().print(table)

@@ -1,0 +1,31 @@
+"""What a reproduction returns, and how it is written to disk."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from mobman.io import dump_json
+
+
+@dataclass
+class Reproduction:
+    """The outcome of one paper reproduction.
+
+    name: command-line name; title: the paper; results: what goes to ``results.json``; report: markdown
+    (claims checked, settings chosen, what could not be reproduced); figures: PNG files written.
+    """
+
+    name: str
+    title: str
+    results: Any
+    report: str
+    figures: list[Path] = field(default_factory=list)
+
+    def write(self, out: Path) -> None:
+        """Write ``results.json`` and ``report.md`` into ``out`` (figures are written by the experiment)."""
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "results.json").write_text(dump_json(self.results))
+        figures = "\n".join(f"![{p.stem}]({p.name})" for p in self.figures)
+        (out / "report.md").write_text(f"# {self.title}\n\n{self.report}\n\n{figures}\n")

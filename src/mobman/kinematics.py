@@ -1,0 +1,169 @@
+"""Batched, differentiable kinematics of mobile manipulators (Bayle §3–4).
+
+Every function takes a robot, configurations ``q`` of shape (..., n_q) and optionally a task (the robot's
+own task by default), and returns arrays with the same leading dimensions. Functions are compiled with the
+robot and the task as static arguments, so a second call with the same shapes does not retrace.
+
+- :func:`forward` ξ = f(q)
+- :func:`jacobian` J = ∂f/∂q (geometric for position/orientation tasks, autodiff otherwise)
+- :func:`S`, :func:`constraints` the admissible-velocity basis and the nonholonomic constraints
+- :func:`reduced_jacobian` J̄ = J S (Bayle eq. 2)
+- :func:`inverse_velocity` η = J̄# ξ̇ + (I − J̄# J̄) z, q̇ = S η (Bayle §4.3)
+- :func:`is_consistent` rank[J̄ | ξ̇] = rank J̄
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import Callable
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mobman.errors import InputError
+from mobman.model.robot import MobileManipulator
+from mobman.model.task import Task
+
+
+def _task(robot: MobileManipulator, task: Task | None) -> Task:
+    task = robot.task if task is None else task
+    task.check(robot)
+    return task
+
+
+def _batched(fn: Callable, core_out: str) -> Callable:
+    """Vectorise a one-configuration function over the leading dimensions of q."""
+    return jnp.vectorize(fn, signature=f"(n)->{core_out}")
+
+
+# --- single-configuration kernels ----------------------------------------------------------------
+
+
+def _forward_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+    return task.value(robot, q, robot.frames(q))
+
+
+def _jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+    return task.jacobian(robot, q, robot.frames(q))
+
+
+def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+    return _jacobian_one(robot, task, q) @ robot.S(q)
+
+
+# --- public batched API ----------------------------------------------------------------------------
+
+
+@partial(jax.jit, static_argnums=(0, 2))
+def _forward(robot, q, task):
+    return _batched(partial(_forward_one, robot, task), "(m)")(q)
+
+
+@partial(jax.jit, static_argnums=(0, 2))
+def _jacobian(robot, q, task):
+    return _batched(partial(_jacobian_one, robot, task), "(m,n)")(q)
+
+
+@partial(jax.jit, static_argnums=(0, 2))
+def _reduced_jacobian(robot, q, task):
+    return _batched(partial(_reduced_one, robot, task), "(m,k)")(q)
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _S(robot, q):
+    return _batched(robot.S, "(n,k)")(q)
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _constraints(robot, q):
+    return _batched(robot.constraints, "(c,n)")(q)
+
+
+def _q(robot: MobileManipulator, q) -> jnp.ndarray:
+    if isinstance(q, jax.core.Tracer):
+        return q
+    return jnp.asarray(robot.validate_q(q))
+
+
+def forward(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+    """Operational coordinates ξ = f(q), shape (..., m)."""
+    return _forward(robot, _q(robot, q), _task(robot, task))
+
+
+def jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+    """Jacobian J(q) = ∂f/∂q, shape (..., m, n_q) (Bayle §3)."""
+    return _jacobian(robot, _q(robot, q), _task(robot, task))
+
+
+def reduced_jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+    """Reduced Jacobian J̄(q) = J(q) S(q), shape (..., m, n_eta): ξ̇ = J̄ η (Bayle eq. 2)."""
+    return _reduced_jacobian(robot, _q(robot, q), _task(robot, task))
+
+
+def S(robot: MobileManipulator, q) -> jnp.ndarray:
+    """Admissible-velocity basis S(q), shape (..., n_q, n_eta): q̇ = S(q) η."""
+    return _S(robot, _q(robot, q))
+
+
+def constraints(robot: MobileManipulator, q) -> jnp.ndarray:
+    """Nonholonomic constraint rows G(q), shape (..., n_q − n_eta, n_q): G(q) q̇ = 0."""
+    return _constraints(robot, _q(robot, q))
+
+
+def frames(robot: MobileManipulator, q):
+    """World poses of platform, mounts and arm frames for one configuration (see :class:`Frames`)."""
+    return robot.frames(_q(robot, q))
+
+
+def pinv(a: jnp.ndarray) -> jnp.ndarray:
+    """Moore–Penrose inverse, batched (the default generalized inverse)."""
+    return jnp.linalg.pinv(a)
+
+
+def inverse_velocity(
+    robot: MobileManipulator,
+    q,
+    xi_dot,
+    z=None,
+    task: Task | None = None,
+    inverse: Callable[[jnp.ndarray], jnp.ndarray] = pinv,
+) -> tuple[jnp.ndarray, jnp.ndarray]:
+    """Reduced inverse velocity kinematics (Bayle §4.3): η = J̄# ξ̇ + (I − J̄# J̄) z, then q̇ = S(q) η.
+
+    ``inverse`` is any generalized inverse (J̄ J̄# J̄ = J̄); the Moore–Penrose inverse by default. ``z`` is
+    an arbitrary vector of size n_eta (zero by default). The result is exact only when ξ̇ is consistent
+    (see :func:`is_consistent`); otherwise it is the least-squares solution of the chosen inverse.
+    Returns (η, q̇).
+    """
+    task = _task(robot, task)
+    q = _q(robot, q)
+    xi_dot = jnp.asarray(xi_dot, dtype=float)
+    if xi_dot.shape[-1] != task.dim:
+        raise InputError(f"xi_dot has {xi_dot.shape[-1]} components, the task {task.names} has {task.dim}")
+    jbar = _reduced_jacobian(robot, q, task)
+    jsharp = inverse(jbar)
+    eta = jnp.einsum("...ij,...j->...i", jsharp, xi_dot)
+    if z is not None:
+        z = jnp.asarray(z, dtype=float)
+        projector = jnp.eye(robot.n_eta) - jsharp @ jbar
+        eta = eta + jnp.einsum("...ij,...j->...i", projector, z)
+    q_dot = jnp.einsum("...ij,...j->...i", _S(robot, q), eta)
+    return eta, q_dot
+
+
+def rank(a, rtol: float = 1e-9) -> np.ndarray:
+    """Numerical rank of (batched) matrices: singular values above rtol · σmax (absolute floor 1e-12)."""
+    s = np.linalg.svd(np.asarray(a), compute_uv=False)
+    smax = s[..., :1] if s.shape[-1] else np.zeros(s.shape[:-1] + (1,))
+    return np.sum(s > np.maximum(rtol * smax, 1e-12), axis=-1)
+
+
+def is_consistent(robot: MobileManipulator, q, xi_dot, task: Task | None = None, rtol: float = 1e-9):
+    """Consistency of the reduced kinematics: rank[J̄ | ξ̇] = rank J̄ (Bayle §4.3), batched."""
+    task = _task(robot, task)
+    jbar = np.asarray(reduced_jacobian(robot, q, task))
+    xi_dot = np.asarray(xi_dot, dtype=float)
+    xi_dot = np.broadcast_to(xi_dot, jbar.shape[:-1])
+    augmented = np.concatenate([jbar, xi_dot[..., None]], axis=-1)
+    return rank(augmented, rtol) == rank(jbar, rtol)

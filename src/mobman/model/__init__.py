@@ -1,0 +1,22 @@
+"""What a robot is: platforms, arms, mounts, the whole mobile manipulator, tasks and the papers' robots."""
+
+from mobman.model.arm import Arm, Joint, LinkInertial
+from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional, Platform
+from mobman.model.robot import Frames, MobileManipulator, Mount
+from mobman.model.task import (
+    Elevation,
+    EulerAngles,
+    FunctionTask,
+    MountPosition,
+    PlanarAngle,
+    Position,
+    Stack,
+    Task,
+    stack,
+)
+
+__all__ = [
+    "Arm", "CarLike", "DifferentialDrive", "Elevation", "EulerAngles", "Frames", "FunctionTask", "Joint",
+    "LinkInertial", "MobileManipulator", "Mount", "MountPosition", "Omnidirectional", "PlanarAngle",
+    "Platform", "Position", "Stack", "Task", "stack",
+]

@@ -1,0 +1,243 @@
+"""A mobile manipulator: a platform, one fixed mount per arm, and one or more arms.
+
+Generalized coordinates are q = [q_p, q_a1, q_a2, …] (platform first, Bayle §2) and quasi-velocities
+η = [η_p, q̇_a1, q̇_a2, …] (Bayle §4.2), related by q̇ = S(q) η with S block-diagonal:
+S(q) = diag(S_p(q_p), I). The model is an immutable, hashable dataclass: it can be a static argument of
+:func:`jax.jit`. All methods here work on one configuration; :mod:`mobman.kinematics` batches them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import jax.numpy as jnp
+import numpy as np
+
+from mobman.errors import InputError, ModelError
+from mobman.model import spatial
+from mobman.model.arm import Arm
+from mobman.model.platform import Platform
+from mobman.model.spatial import Transform
+
+if TYPE_CHECKING:
+    from mobman.model.task import Task
+
+
+@dataclass(frozen=True)
+class Mount:
+    """Fixed transform from the platform frame to an arm's base frame.
+
+    ``Mount(a, b, c)`` puts the arm base at (a, b, c) in the platform frame (Nait-Chabane's a, b, c;
+    Korayem's l0 is ``Mount(l0)``), optionally turned by ``yaw`` about the vertical axis.
+    """
+
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+    yaw: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("x", "y", "z", "yaw"):
+            if not math.isfinite(getattr(self, name)):
+                raise ModelError(f"Mount: {name} must be finite, got {getattr(self, name)!r}")
+
+    @property
+    def transform(self) -> Transform:
+        return spatial.transform(spatial.rot_z(self.yaw), (self.x, self.y, self.z))
+
+
+@dataclass(frozen=True)
+class Frames:
+    """World poses of one configuration: platform, each mount, each arm's joint frames and tool frame."""
+
+    platform: tuple[jnp.ndarray, jnp.ndarray]
+    mounts: tuple[tuple[jnp.ndarray, jnp.ndarray], ...]
+    links: tuple[tuple[jnp.ndarray, jnp.ndarray], ...]
+    """per arm: R (n_joints + 1, 3, 3) and p (n_joints + 1, 3); the last entry is the tool frame."""
+
+
+@dataclass(frozen=True)
+class MobileManipulator:
+    """Platform + mounts + arms, with an operational task ξ = f(q) (default: first arm's tool position)."""
+
+    platform: Platform
+    arms: tuple[Arm, ...]
+    mounts: tuple[Mount, ...] | None = None
+    task: "Task | None" = None
+    name: str = "mobile-manipulator"
+    parameters: tuple[tuple[str, float], ...] = field(default=(), compare=True)
+
+    def __post_init__(self) -> None:
+        arms = (self.arms,) if isinstance(self.arms, Arm) else tuple(self.arms)
+        if not arms:
+            raise ModelError(f"{self.name}: a mobile manipulator needs at least one arm")
+        mounts = tuple(Mount() for _ in arms) if self.mounts is None else self.mounts
+        mounts = (mounts,) if isinstance(mounts, Mount) else tuple(mounts)
+        if len(mounts) != len(arms):
+            raise ModelError(f"{self.name}: {len(mounts)} mounts given for {len(arms)} arms")
+        object.__setattr__(self, "arms", arms)
+        object.__setattr__(self, "mounts", mounts)
+        object.__setattr__(self, "parameters", tuple((str(k), float(v)) for k, v in self.parameters))
+        if self.task is None:
+            from mobman.model.task import Position
+
+            object.__setattr__(self, "task", Position())
+
+    # --- layout --------------------------------------------------------------------------------------
+
+    @property
+    def n_q(self) -> int:
+        """Mobility index M = dim q."""
+        return self.platform.n_q + sum(a.n_joints for a in self.arms)
+
+    @property
+    def n_eta(self) -> int:
+        """Mobility degree δ = dim η."""
+        return self.platform.n_eta + sum(a.n_joints for a in self.arms)
+
+    @property
+    def n_platform(self) -> int:
+        return self.platform.n_q
+
+    def arm_slice(self, index: int) -> slice:
+        """Position of arm ``index``'s coordinates in q."""
+        start = self.platform.n_q + sum(a.n_joints for a in self.arms[:index])
+        return slice(start, start + self.arms[index].n_joints)
+
+    def arm_eta_slice(self, index: int) -> slice:
+        """Position of arm ``index``'s joint velocities in η."""
+        start = self.platform.n_eta + sum(a.n_joints for a in self.arms[:index])
+        return slice(start, start + self.arms[index].n_joints)
+
+    @property
+    def coordinate_names(self) -> tuple[str, ...]:
+        names = list(self.platform.coordinate_names)
+        labels = [a.name for a in self.arms]
+        if len(set(labels)) != len(labels):
+            labels = [f"arm{i + 1}" for i in range(len(self.arms))]
+        for label, arm in zip(labels, self.arms):
+            prefix = "" if len(self.arms) == 1 else f"{label}."
+            names += [prefix + n for n in arm.coordinate_names]
+        return tuple(names)
+
+    @property
+    def control_names(self) -> tuple[str, ...]:
+        names = list(self.platform.control_names)
+        for name in self.coordinate_names[self.platform.n_q :]:
+            names.append(name + "_dot")
+        return tuple(names)
+
+    @property
+    def velocity_limits(self) -> tuple[float, ...] | None:
+        """Maximum |η_i| for every quasi-velocity, or None if any is unknown."""
+        platform = self.platform.velocity_limits
+        arms = [a.velocity_limits for a in self.arms]
+        if platform is None or any(a is None for a in arms):
+            return None
+        return tuple(platform) + tuple(v for a in arms for v in a)
+
+    @property
+    def position_limits(self) -> tuple[tuple[float, float], ...]:
+        """(lower, upper) for every coordinate (platform coordinates are unbounded)."""
+        return ((-math.inf, math.inf),) * self.platform.n_q + tuple(
+            lim for a in self.arms for lim in a.position_limits
+        )
+
+    def with_task(self, task: "Task") -> "MobileManipulator":
+        """The same robot with another operational task."""
+        return MobileManipulator(self.platform, self.arms, self.mounts, task, self.name, self.parameters)
+
+    def validate_q(self, q) -> np.ndarray:
+        """Check a configuration (or a batch): last axis of size n_q, finite values."""
+        arr = np.asarray(q, dtype=float)
+        if arr.ndim == 0 or arr.shape[-1] != self.n_q:
+            got = arr.shape[-1] if arr.ndim else 1
+            raise InputError(
+                f"{self.name}: a configuration has {self.n_q} coordinates "
+                f"({', '.join(self.coordinate_names)}), got {got}"
+            )
+        if not np.all(np.isfinite(arr)):
+            raise InputError(f"{self.name}: configuration contains NaN or infinite values")
+        return arr
+
+    # --- per-configuration functions (unbatched) -------------------------------------------------
+
+    def S(self, q: jnp.ndarray) -> jnp.ndarray:
+        """S(q) = diag(S_p(q_p), I_{n_a}), shape (n_q, n_eta) (Bayle §4.2)."""
+        n_p = self.platform.n_q
+        s_p = self.platform.S(q[:n_p])
+        n_a = self.n_q - n_p
+        top = jnp.concatenate([s_p, jnp.zeros((n_p, n_a), dtype=s_p.dtype)], axis=1)
+        bottom = jnp.concatenate(
+            [jnp.zeros((n_a, self.platform.n_eta), dtype=s_p.dtype), jnp.eye(n_a, dtype=s_p.dtype)], axis=1
+        )
+        return jnp.concatenate([top, bottom], axis=0)
+
+    def constraints(self, q: jnp.ndarray) -> jnp.ndarray:
+        """G(q) = [G_p(q_p) 0] with G(q) q̇ = 0 (Bayle §4.2), shape (n_q − n_eta, n_q)."""
+        g_p = self.platform.constraints(q[: self.platform.n_q])
+        return jnp.concatenate([g_p, jnp.zeros((g_p.shape[0], self.n_q - self.platform.n_q), g_p.dtype)], 1)
+
+    def frames(self, q: jnp.ndarray) -> Frames:
+        """World poses of the platform, mounts and every arm frame at one configuration."""
+        platform = spatial.planar_pose(q[0], q[1], q[2])
+        mounts, links = [], []
+        for i, (arm, mount) in enumerate(zip(self.arms, self.mounts)):
+            mount_pose = spatial.compose(platform, spatial.fixed_pose(mount.transform))
+            mounts.append(mount_pose)
+            links.append(arm.link_poses(q[self.arm_slice(i)], base=mount_pose))
+        return Frames(platform, tuple(mounts), tuple(links))
+
+    def point_jacobian(self, q: jnp.ndarray, frames: Frames, point: jnp.ndarray, arm: int | None, upto: int):
+        """Linear (3 × n_q) and angular (3 × n_q) velocity Jacobians of a point rigidly attached to
+        frame ``upto`` of arm ``arm`` (only joints ≤ upto move it; ``arm=None``: attached to the platform).
+
+        Columns: platform x, y → unit vectors, θ → e_z × (p − o_platform) (further platform coordinates, such
+        as a steering angle, do not move the body); revolute joint j → a_j × (p − o_j), prismatic → a_j
+        (the geometric Jacobian), multiplied by the arm's coupling matrix.
+        """
+        n_p = self.platform.n_q
+        origin = frames.platform[1]
+        dtype = origin.dtype
+        e_z = jnp.array([0.0, 0.0, 1.0], dtype=dtype)
+        lin = [jnp.array([1.0, 0.0, 0.0], dtype=dtype), jnp.array([0.0, 1.0, 0.0], dtype=dtype)]
+        lin.append(spatial.cross(e_z, point - origin))
+        ang = [jnp.zeros(3, dtype), jnp.zeros(3, dtype), e_z]
+        lin += [jnp.zeros(3, dtype)] * (n_p - 3)
+        ang += [jnp.zeros(3, dtype)] * (n_p - 3)
+        j_lin = [jnp.stack(lin, axis=1)]
+        j_ang = [jnp.stack(ang, axis=1)]
+        for i, a in enumerate(self.arms):
+            n = a.n_joints
+            if i != arm:
+                j_lin.append(jnp.zeros((3, n), dtype))
+                j_ang.append(jnp.zeros((3, n), dtype))
+                continue
+            rs, ps = frames.links[i]
+            axes = jnp.stack([spatial.matvec(rs[j], np.asarray(jt.axis)) for j, jt in enumerate(a.joints)])
+            revolute = np.array([jt.kind == "revolute" for jt in a.joints])
+            moves = np.arange(n) <= upto
+            lin_cols = jnp.where(revolute[:, None], spatial.cross(axes, point - ps[:n]), axes)
+            ang_cols = jnp.where(revolute[:, None], axes, 0.0)
+            lin_cols = jnp.where(moves[:, None], lin_cols, 0.0).T
+            ang_cols = jnp.where(moves[:, None], ang_cols, 0.0).T
+            c = a.coupling_matrix
+            j_lin.append(lin_cols @ c if a.coupling is not None else lin_cols)
+            j_ang.append(ang_cols @ c if a.coupling is not None else ang_cols)
+        return jnp.concatenate(j_lin, axis=1), jnp.concatenate(j_ang, axis=1)
+
+    def describe(self) -> dict:
+        """A JSON-friendly description: name, parameters, coordinates, controls, limits."""
+        return {
+            "name": self.name,
+            "parameters": dict(self.parameters),
+            "platform": type(self.platform).__name__,
+            "coordinates": list(self.coordinate_names),
+            "controls": list(self.control_names),
+            "task": list(self.task.names),
+            "velocity_limits": None if self.velocity_limits is None else list(self.velocity_limits),
+            "M": self.n_q,
+            "delta": self.n_eta,
+        }

@@ -1,0 +1,238 @@
+"""The papers' robots, every dimension a keyword argument named as in the paper.
+
+Where a paper gives no value, the default is a documented choice (see ``docs/kinematics.md``). Each robot
+carries its paper's operational task. On the command line the names use hyphens (``bayle-planar``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import jax.numpy as jnp
+
+from mobman.errors import ModelError
+from mobman.model import spatial
+from mobman.model.arm import Arm, Joint, LinkInertial
+from mobman.model.platform import CarLike, DifferentialDrive
+from mobman.model.robot import MobileManipulator, Mount
+from mobman.model.task import Elevation, PlanarAngle, Position, stack
+
+_UP = (0.0, 0.0, 1.0)
+_LIFT = (0.0, -1.0, 0.0)  # rotating about −y lifts the x axis: positive angle = elevation
+
+
+def _check_lengths(owner: str, **lengths: float) -> None:
+    for name, value in lengths.items():
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise ModelError(f"{owner}: {name} must be a finite length > 0 m, got {value!r}")
+
+
+def _check_finite(owner: str, **values: float) -> None:
+    for name, value in values.items():
+        if not (isinstance(value, (int, float)) and math.isfinite(value)):
+            raise ModelError(f"{owner}: {name} must be a finite number, got {value!r}")
+
+
+def _translation(x: float = 0.0, y: float = 0.0, z: float = 0.0):
+    return spatial.transform(None, (x, y, z))
+
+
+def planar_arm(lengths, names=None, velocity_max=None, inertials=None, name="arm") -> Arm:
+    """A horizontal planar arm: revolute joints about the vertical axis, links along x."""
+    joints = []
+    for i, _ in enumerate(lengths):
+        joints.append(
+            Joint(
+                "revolute",
+                _UP,
+                _translation(lengths[i - 1]) if i else spatial.IDENTITY,
+                name=names[i] if names else f"q{i + 1}",
+                velocity_max=None if velocity_max is None else velocity_max[i],
+                inertial=None if inertials is None else inertials[i],
+            )
+        )
+    return Arm(tuple(joints), _translation(lengths[-1]), name=name)
+
+
+def bayle_planar(l1: float = 0.5, l2: float = 0.5) -> MobileManipulator:
+    """HILARE-like platform + horizontal 2R arm at the axle midpoint (Bayle §5.1), M = 5, ξ = (x, y, angle).
+
+    The paper gives no link lengths: 0.5 m each is a choice. Velocity limits (for the normalised measures)
+    are also a choice: v_max = 0.5 m/s, ω_max = 1 rad/s, |q̇_a| ≤ π/2 rad/s.
+    """
+    _check_lengths("bayle_planar", l1=l1, l2=l2)
+    arm = planar_arm((l1, l2), names=("q4", "q5"), velocity_max=(math.pi / 2,) * 2)
+    return MobileManipulator(
+        DifferentialDrive(v_max=0.5, omega_max=1.0),
+        (arm,),
+        task=stack(Position("xy"), PlanarAngle()),
+        name="bayle-planar",
+        parameters=(("l1", l1), ("l2", l2)),
+    )
+
+
+def bayle_rrp() -> MobileManipulator:
+    """HILARE-like platform + RRP arm (Bayle §5.2), M = 6; ξ = EE position, heading ϑ + q4, elevation q5.
+
+    Joint 4 turns about the vertical, joint 5 lifts the arm, joint 6 slides along it; the base of the arm
+    is at the axle midpoint, as in the paper's direct kinematics.
+    """
+    arm = Arm(
+        (
+            Joint("revolute", _UP, name="q4", velocity_max=math.pi / 2),
+            Joint("revolute", _LIFT, name="q5", velocity_max=math.pi / 2),
+            Joint("prismatic", (1.0, 0.0, 0.0), name="q6", lower=0.0, velocity_max=0.5),
+        ),
+        name="rrp",
+    )
+    return MobileManipulator(
+        DifferentialDrive(v_max=0.5, omega_max=1.0),
+        (arm,),
+        task=stack(Position("xyz"), PlanarAngle(), Elevation()),
+        name="bayle-rrp",
+    )
+
+
+def manus_platform(
+    L2: float = 0.12, L3: float = 0.35, L4: float = 0.35, a: float = 0.12, b: float = 0.12, c: float = 0.4
+) -> MobileManipulator:
+    """The three Manus positioning joints on a differential platform (Nait-Chabane eq. 3, 27–28).
+
+    Arm coordinates are the paper's: q_a1 about the vertical, q_a2 and q_a3 the *absolute* elevation angles
+    of the upper arm and forearm (the Manus has a parallelogram linkage), modelled with a coupling matrix.
+    L2 is the shoulder's lateral offset (0.12 m: the paper's retracted point (0, 0.12, 0)); L3 = L4 =
+    0.35 m are a choice (the paper gives none). The arm base is at (a, b, c) in the platform frame: the
+    paper's simulations state (0.12, 0.12, 0.4) m while §4.1 uses a = b = 0. Velocity limits are the
+    paper's u_max = (0.33 m/s, 0.55 rad/s, π/3, π/3, π/3 rad/s).
+    """
+    _check_lengths("manus_platform", L2=L2, L3=L3, L4=L4)
+    _check_finite("manus_platform", a=a, b=b, c=c)
+    w = math.pi / 3
+    arm = Arm(
+        (
+            Joint("revolute", _UP, name="qa1", velocity_max=w),
+            Joint("revolute", _LIFT, _translation(0.0, L2), name="qa2", velocity_max=w),
+            Joint("revolute", _LIFT, _translation(L3), name="qa3", velocity_max=w),
+        ),
+        tool=_translation(L4),
+        coupling=(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 1.0),
+        name="manus",
+    )
+    return MobileManipulator(
+        DifferentialDrive(v_max=0.33, omega_max=0.55),
+        (arm,),
+        (Mount(a, b, c),),
+        task=Position("xyz"),
+        name="manus-platform",
+        parameters=(("L2", L2), ("L3", L3), ("L4", L4), ("a", a), ("b", b), ("c", c)),
+    )
+
+
+def korayem_planar(l0: float = 0.4, l1: float = 0.5, l2: float = 0.5) -> MobileManipulator:
+    """Differential platform + planar 2R arm mounted at F, l0 ahead of the axle (Korayem eq. 20–25).
+
+    ξ = (x_e, y_e). Korayem's generalized coordinates are those of F; here q_p is the axle midpoint, a
+    change of coordinates with unit Jacobian determinant, so the augmented-Jacobian determinants agree.
+    Wheel radius 0.1 m and half-track 0.25 m are a choice (not in the seed text).
+    """
+    _check_lengths("korayem_planar", l0=l0, l1=l1, l2=l2)
+    arm = planar_arm((l1, l2), names=("theta1", "theta2"), velocity_max=(3.5, 3.5))
+    return MobileManipulator(
+        DifferentialDrive(wheel_radius=0.1, half_track=0.25, wheel_speed_max=3.5),
+        (arm,),
+        (Mount(l0),),
+        task=Position("xy"),
+        name="korayem-planar",
+        parameters=(("l0", l0), ("l1", l1), ("l2", l2)),
+    )
+
+
+def tchon_car_rtr(l2: float = 0.6, l3: float = 0.4, length: float = 1.0) -> MobileManipulator:
+    """Kinematic car + RTR arm (Tchoń et al. eq. 31), ξ = y = EE position.
+
+    q = (q1, q2, q3, q4, x1, x2, x3): rear-axle midpoint, orientation, steering angle; x1 turns the arm
+    about the vertical, x2 slides it vertically, x3 lifts the last link. The car length is the unit (1).
+    """
+    _check_lengths("tchon_car_rtr", l2=l2, l3=l3, length=length)
+    arm = Arm(
+        (
+            Joint("revolute", _UP, name="x1"),
+            Joint("prismatic", _UP, name="x2"),
+            Joint("revolute", _LIFT, _translation(l2), name="x3"),
+        ),
+        tool=_translation(l3),
+        name="rtr",
+    )
+    platform = CarLike(length=length)
+    return MobileManipulator(
+        platform,
+        (arm,),
+        task=Position("xyz"),
+        name="tchon-car-rtr",
+        parameters=(("l2", l2), ("l3", l3), ("length", length)),
+    )
+
+
+def yamamoto_dual_arm(
+    L1: float = 0.5, L2: float = 0.5, L3: float = 0.5, b: float = 0.171, r: float = 0.075
+) -> MobileManipulator:
+    """Two planar 3-link arms with a common base at the axle midpoint (Yamamoto & Yun Tables 1–2).
+
+    Link inertials from Table 1 (L_ci, m_i, I_i); joint speed limit 3.14 rad/s; wheel speed limit 1/r rad/s.
+    The default task is the first arm's tool position and heading (the held object is handled by
+    :mod:`mobman.dynamics`).
+    """
+    _check_lengths("yamamoto_dual_arm", L1=L1, L2=L2, L3=L3, b=b, r=r)
+    lengths = (L1, L2, L3)
+    com = (0.25, 0.25, 0.1)
+    masses = (10.0, 6.0, 2.0)
+    inertia_z = (0.5, 0.3, 0.01)
+    inertials = tuple(
+        LinkInertial(m, (lc, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, iz))
+        for m, lc, iz in zip(masses, com, inertia_z)
+    )
+    arms = tuple(
+        planar_arm(lengths, names=("theta1", "theta2", "theta3"), velocity_max=(3.14,) * 3,
+                   inertials=inertials, name=f"arm{k}")
+        for k in (1, 2)
+    )
+    return MobileManipulator(
+        DifferentialDrive(wheel_radius=r, half_track=b, wheel_speed_max=1.0 / r),
+        arms,
+        task=stack(Position("xy"), PlanarAngle()),
+        name="yamamoto-dual-arm",
+        parameters=(("L1", L1), ("L2", L2), ("L3", L3), ("b", b), ("r", r)),
+    )
+
+
+ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
+    "bayle-planar": bayle_planar,
+    "bayle-rrp": bayle_rrp,
+    "manus-platform": manus_platform,
+    "korayem-planar": korayem_planar,
+    "tchon-car-rtr": tchon_car_rtr,
+    "yamamoto-dual-arm": yamamoto_dual_arm,
+}
+
+
+def build(name: str, **params: float) -> MobileManipulator:
+    """A built-in robot by its command-line name, with keyword parameters; clear errors otherwise."""
+    key = name.replace("_", "-")
+    if key not in ROBOTS:
+        raise ModelError(f"unknown robot {name!r}; built-in robots: {', '.join(ROBOTS)}")
+    factory = ROBOTS[key]
+    import inspect
+
+    allowed = list(inspect.signature(factory).parameters)
+    for p in params:
+        if p not in allowed:
+            raise ModelError(
+                f"robot {key}: unknown parameter {p!r}; allowed: {', '.join(allowed) if allowed else 'none'}"
+            )
+    return factory(**params)
+
+
+def elbow_angle(q: jnp.ndarray) -> jnp.ndarray:
+    """Korayem's elbow angle β = π − θ2 (eq. 35) for ``korayem_planar`` (q = x, y, θ, θ1, θ2)."""
+    return jnp.pi - q[4:5]

@@ -1,0 +1,164 @@
+"""Rigid transforms in SE(3) as (R, p) pairs, written with broadcasting products.
+
+Poses are kept as a rotation ``R`` (..., 3, 3) and a translation ``p`` (..., 3) rather than 4 × 4
+matrices: composing them with elementwise products and sums lets XLA fuse a whole kinematic chain into
+a few loops over a batch, which is much faster on the CPU than many tiny batched matrix products.
+
+Fixed transforms of a robot description are stored as hashable tuples (16 floats, row-major 4 × 4) so
+that robot models can be static arguments of :func:`jax.jit`.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import jax.numpy as jnp
+import numpy as np
+
+Transform = tuple[float, ...]
+"""A fixed homogeneous transform, row-major 4 × 4 flattened to 16 floats (hashable)."""
+
+IDENTITY: Transform = tuple(float(v) for v in np.eye(4).ravel())
+
+
+def transform(rotation: np.ndarray | None = None, translation: Sequence[float] = (0.0, 0.0, 0.0)) -> Transform:
+    """Build a hashable fixed transform from a rotation matrix and a translation."""
+    matrix = np.eye(4)
+    if rotation is not None:
+        matrix[:3, :3] = np.asarray(rotation, dtype=float)
+    matrix[:3, 3] = np.asarray(translation, dtype=float)
+    return tuple(float(v) for v in matrix.ravel())
+
+
+def as_matrix(t: Transform) -> np.ndarray:
+    """The 4 × 4 NumPy matrix of a stored transform."""
+    return np.asarray(t, dtype=float).reshape(4, 4)
+
+
+def compose_fixed(*ts: Transform) -> Transform:
+    """Product of fixed transforms, left to right."""
+    out = np.eye(4)
+    for t in ts:
+        out = out @ as_matrix(t)
+    return tuple(float(v) for v in out.ravel())
+
+
+def rot_x(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rot_y(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_z(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """The cross-product matrix [v]× of a constant 3-vector (NumPy)."""
+    x, y, z = np.asarray(v, dtype=float)
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+# --- batched JAX operations on (R, p) poses ------------------------------------------------------
+
+
+def matmul(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
+    """a @ b for stacks of small matrices, as a broadcast product and sum (fuses under XLA)."""
+    return jnp.sum(a[..., :, :, None] * b[..., None, :, :], axis=-2)
+
+
+def matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:
+    """a @ v for stacks of small matrices and vectors."""
+    return jnp.sum(a * v[..., None, :], axis=-1)
+
+
+def cross(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
+    """Cross product along the last axis, written out (jnp.cross is slower under vmap on CPU)."""
+    return jnp.stack(
+        [
+            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
+        ],
+        axis=-1,
+    )
+
+
+def compose(pose_a: tuple[jnp.ndarray, jnp.ndarray], pose_b: tuple[jnp.ndarray, jnp.ndarray]):
+    """(R_a, p_a) ∘ (R_b, p_b) = (R_a R_b, R_a p_b + p_a)."""
+    ra, pa = pose_a
+    rb, pb = pose_b
+    return matmul(ra, rb), matvec(ra, pb) + pa
+
+
+def fixed_pose(t: Transform) -> tuple[np.ndarray, np.ndarray]:
+    """(R, p) of a stored fixed transform, as NumPy constants."""
+    m = as_matrix(t)
+    return m[:3, :3], m[:3, 3]
+
+
+def axis_rotation(axis: np.ndarray, angle: jnp.ndarray) -> jnp.ndarray:
+    """Rotation by ``angle`` about a constant unit ``axis`` (Rodrigues), batched over ``angle``."""
+    k = skew(axis)
+    k2 = k @ k
+    s = jnp.sin(angle)[..., None, None]
+    c = jnp.cos(angle)[..., None, None]
+    return np.eye(3) + s * k + (1.0 - c) * k2
+
+
+def planar_pose(x: jnp.ndarray, y: jnp.ndarray, theta: jnp.ndarray):
+    """(R, p) of a frame at (x, y, 0) rotated by theta about the vertical axis."""
+    c, s = jnp.cos(theta), jnp.sin(theta)
+    zero, one = jnp.zeros_like(c), jnp.ones_like(c)
+    r = jnp.stack(
+        [jnp.stack([c, -s, zero], -1), jnp.stack([s, c, zero], -1), jnp.stack([zero, zero, one], -1)], -2
+    )
+    p = jnp.stack([x, y, jnp.zeros_like(x)], -1)
+    return r, p
+
+
+# --- orientation coordinates -----------------------------------------------------------------------
+
+EULER_SEQUENCES = ("ZYZ", "ZYX", "XYZ", "ZXZ")
+
+
+def euler_angles(r: jnp.ndarray, sequence: str) -> jnp.ndarray:
+    """Euler angles (a1, a2, a3) of rotation matrices r = R_{s1}(a1) R_{s2}(a2) R_{s3}(a3).
+
+    Supported sequences: ``ZYZ`` (θ in [0, π]), ``ZYX`` (yaw, pitch, roll; pitch in [−π/2, π/2]), ``XYZ``
+    and ``ZXZ``. The representation is singular where the middle angle is at the end of its range
+    (gimbal lock): operational coordinates are local variables (Bayle §2).
+    """
+    if sequence == "ZYZ":
+        a1 = jnp.arctan2(r[..., 1, 2], r[..., 0, 2])
+        a2 = jnp.arctan2(jnp.hypot(r[..., 0, 2], r[..., 1, 2]), r[..., 2, 2])
+        a3 = jnp.arctan2(r[..., 2, 1], -r[..., 2, 0])
+    elif sequence == "ZXZ":
+        a1 = jnp.arctan2(r[..., 0, 2], -r[..., 1, 2])
+        a2 = jnp.arctan2(jnp.hypot(r[..., 0, 2], r[..., 1, 2]), r[..., 2, 2])
+        a3 = jnp.arctan2(r[..., 2, 0], r[..., 2, 1])
+    elif sequence == "ZYX":
+        a1 = jnp.arctan2(r[..., 1, 0], r[..., 0, 0])
+        a2 = jnp.arcsin(jnp.clip(-r[..., 2, 0], -1.0, 1.0))
+        a3 = jnp.arctan2(r[..., 2, 1], r[..., 2, 2])
+    elif sequence == "XYZ":
+        a1 = jnp.arctan2(-r[..., 1, 2], r[..., 2, 2])
+        a2 = jnp.arcsin(jnp.clip(r[..., 0, 2], -1.0, 1.0))
+        a3 = jnp.arctan2(-r[..., 0, 1], r[..., 0, 0])
+    else:
+        raise ValueError(f"unknown Euler sequence {sequence!r}; allowed: {', '.join(EULER_SEQUENCES)}")
+    return jnp.stack([a1, a2, a3], axis=-1)
+
+
+def euler_matrix(angles: np.ndarray, sequence: str) -> np.ndarray:
+    """Rotation matrix of Euler angles (NumPy; used for checks and for building fixed frames)."""
+    rots = {"X": rot_x, "Y": rot_y, "Z": rot_z}
+    out = np.eye(3)
+    for axis, a in zip(sequence, angles):
+        out = out @ rots[axis](a)
+    return out

@@ -1,0 +1,272 @@
+"""Operational coordinates ξ = f(q) (Bayle §2) and their Jacobians J = ∂f/∂q.
+
+A task is an immutable, hashable object with ``names`` and two per-configuration methods:
+``value(robot, q, frames)`` and ``jacobian(robot, q, frames)``. Position tasks build the geometric
+Jacobian from the chain; orientation tasks chain-rule the angle extraction through Ṙ = [ω]× R; all other
+tasks (user functions of q) are differentiated by forward-mode autodiff. Stacks concatenate rows — this is
+how Korayem's extra rows and Tchoń's output extension are expressed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Callable
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mobman.errors import ModelError
+from mobman.model import spatial
+
+if TYPE_CHECKING:
+    from mobman.model.robot import Frames, MobileManipulator
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass(frozen=True)
+class Task:
+    """Base class: subclasses define ``names`` and ``value``; ``jacobian`` defaults to autodiff."""
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        raise NotImplementedError
+
+    @property
+    def dim(self) -> int:
+        return len(self.names)
+
+    def value(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
+        raise NotImplementedError
+
+    def jacobian(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
+        return jax.jacfwd(lambda qq: self.value(robot, qq, robot.frames(qq)))(q)
+
+    def check(self, robot: "MobileManipulator") -> None:
+        """Raise ModelError if the task does not fit the robot (arm index, link index)."""
+
+
+def _components(components: str) -> tuple[int, ...]:
+    if not components or any(c not in _AXES for c in components) or len(set(components)) != len(components):
+        raise ModelError(f"task components {components!r}: use distinct letters among x, y, z")
+    return tuple(_AXES[c] for c in components)
+
+
+def _check_arm(robot: "MobileManipulator", arm: int, link: int | None = None) -> None:
+    if not 0 <= arm < len(robot.arms):
+        raise ModelError(f"task: arm index {arm} out of range 0..{len(robot.arms) - 1}")
+    n = robot.arms[arm].n_joints
+    if link is not None and not -1 <= link < n:
+        raise ModelError(f"task: link index {link} out of range -1 (tool) .. {n - 1}")
+
+
+@dataclass(frozen=True)
+class Position(Task):
+    """Position of a point of an arm frame in the world, any subset of (x, y, z).
+
+    ``link=-1`` is the tool (end-effector) frame; ``link=k`` the frame after joint k. ``point`` is an offset
+    in that frame. The Jacobian is the geometric one, z_i × (p − o_i) (tested against autodiff).
+    """
+
+    components: str = "xyz"
+    arm: int = 0
+    link: int = -1
+    point: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    label: str = "ee"
+
+    def __post_init__(self) -> None:
+        _components(self.components)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(f"{c}_{self.label}" for c in self.components)
+
+    def check(self, robot) -> None:
+        _check_arm(robot, self.arm, self.link)
+
+    def _point(self, frames):
+        rs, ps = frames.links[self.arm]
+        return ps[self.link] + spatial.matvec(rs[self.link], np.asarray(self.point))
+
+    def value(self, robot, q, frames):
+        return self._point(frames)[np.array(_components(self.components))]
+
+    def jacobian(self, robot, q, frames):
+        n = robot.arms[self.arm].n_joints
+        upto = n - 1 if self.link == -1 else self.link
+        lin, _ = robot.point_jacobian(q, frames, self._point(frames), self.arm, upto)
+        return lin[np.array(_components(self.components))]
+
+
+@dataclass(frozen=True)
+class MountPosition(Task):
+    """Position of an arm's mount point in the world (Korayem's base point F = (x_f, y_f))."""
+
+    components: str = "xy"
+    arm: int = 0
+
+    def __post_init__(self) -> None:
+        _components(self.components)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(f"{c}_f" for c in self.components)
+
+    def check(self, robot) -> None:
+        _check_arm(robot, self.arm)
+
+    def value(self, robot, q, frames):
+        return frames.mounts[self.arm][1][np.array(_components(self.components))]
+
+    def jacobian(self, robot, q, frames):
+        lin, _ = robot.point_jacobian(q, frames, frames.mounts[self.arm][1], None, -1)
+        return lin[np.array(_components(self.components))]
+
+
+@dataclass(frozen=True)
+class _OrientationTask(Task):
+    """Angles g(R) of an arm frame's rotation R; J = ∂g/∂R · ([ω_j]× R) for every column j."""
+
+    arm: int = field(default=0, kw_only=True)
+    link: int = field(default=-1, kw_only=True)
+
+    def check(self, robot) -> None:
+        _check_arm(robot, self.arm, self.link)
+
+    def angles(self, r: jnp.ndarray) -> jnp.ndarray:
+        raise NotImplementedError
+
+    def value(self, robot, q, frames):
+        return self.angles(frames.links[self.arm][0][self.link])
+
+    def jacobian(self, robot, q, frames):
+        rs, ps = frames.links[self.arm]
+        r = rs[self.link]
+        n = robot.arms[self.arm].n_joints
+        upto = n - 1 if self.link == -1 else self.link
+        _, omega = robot.point_jacobian(q, frames, ps[self.link], self.arm, upto)
+        dg_dr = jax.jacfwd(self.angles)(r)  # (k, 3, 3)
+        # Ṙ = [ω]× R, so dR/dq_j = ω_j × (columns of R)
+        dr = jnp.stack(
+            [spatial.cross(jnp.broadcast_to(omega[:, j], (3, 3)), r.T).T for j in range(omega.shape[1])]
+        )  # (n_q, 3, 3)
+        return jnp.einsum("kab,jab->kj", dg_dr, dr)
+
+
+@dataclass(frozen=True)
+class PlanarAngle(_OrientationTask):
+    """Heading of the frame's x axis in the horizontal plane, atan2(R₁₀, R₀₀) (Bayle's ξ3, Korayem's α_e).
+
+    For a planar robot it is the sum of the platform angle and the joint angles. It is the yaw of the ZYX
+    Euler set; it is continuous only away from ±π.
+    """
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return ("angle",)
+
+    def angles(self, r):
+        return jnp.arctan2(r[1, 0], r[0, 0])[None]
+
+
+@dataclass(frozen=True)
+class Elevation(_OrientationTask):
+    """Angle of the frame's x axis above the horizontal plane, asin(R₂₀) (Bayle's ξ5 for the RRP arm).
+
+    Equal to minus the pitch of the ZYX Euler set.
+    """
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return ("elevation",)
+
+    def angles(self, r):
+        return jnp.arcsin(jnp.clip(r[2, 0], -1.0, 1.0))[None]
+
+
+@dataclass(frozen=True)
+class EulerAngles(_OrientationTask):
+    """Euler angles of an arm frame, sequence ``ZYZ``, ``ZYX`` (roll-pitch-yaw as yaw, pitch, roll),
+    ``XYZ`` or ``ZXZ``; ``select`` keeps a subset (indices into the three angles)."""
+
+    sequence: str = "ZYZ"
+    select: tuple[int, ...] = (0, 1, 2)
+
+    def __post_init__(self) -> None:
+        if self.sequence not in spatial.EULER_SEQUENCES:
+            raise ModelError(
+                f"EulerAngles: sequence {self.sequence!r} not supported; allowed: "
+                f"{', '.join(spatial.EULER_SEQUENCES)}"
+            )
+        sel = tuple(int(i) for i in self.select)
+        if not sel or any(i not in (0, 1, 2) for i in sel) or len(set(sel)) != len(sel):
+            raise ModelError(f"EulerAngles: select must be distinct indices among 0, 1, 2, got {self.select!r}")
+        object.__setattr__(self, "select", sel)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(f"{self.sequence.lower()}_{i + 1}" for i in self.select)
+
+    def angles(self, r):
+        return spatial.euler_angles(r, self.sequence)[np.array(self.select)]
+
+
+@dataclass(frozen=True)
+class FunctionTask(Task):
+    """A user function of the generalized coordinates, ξ = fn(q) for one configuration (shape (m,)).
+
+    Its Jacobian is obtained by autodiff, so ``fn`` must be written with ``jax.numpy``. Examples: Korayem's
+    elbow angle β = π − θ2 is ``FunctionTask(lambda q: jnp.pi - q[4:5], ("beta",))``.
+    """
+
+    fn: Callable[[jnp.ndarray], jnp.ndarray] = None  # type: ignore[assignment]
+    labels: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not callable(self.fn):
+            raise ModelError("FunctionTask: fn must be a callable of q")
+        if not self.labels:
+            raise ModelError("FunctionTask: give the names (labels) of the outputs")
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(self.labels)
+
+    def value(self, robot, q, frames):
+        return jnp.reshape(jnp.asarray(self.fn(q)), (self.dim,))
+
+
+@dataclass(frozen=True)
+class Stack(Task):
+    """Several tasks stacked row-wise: ξ = [f_1(q); f_2(q); …]."""
+
+    tasks: tuple[Task, ...] = ()
+
+    def __post_init__(self) -> None:
+        tasks = tuple(self.tasks)
+        if not tasks or not all(isinstance(t, Task) for t in tasks):
+            raise ModelError("Stack: give one or more tasks")
+        object.__setattr__(self, "tasks", tasks)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(n for t in self.tasks for n in t.names)
+
+    def check(self, robot) -> None:
+        for t in self.tasks:
+            t.check(robot)
+
+    def value(self, robot, q, frames):
+        return jnp.concatenate([t.value(robot, q, frames) for t in self.tasks])
+
+    def jacobian(self, robot, q, frames):
+        return jnp.concatenate([t.jacobian(robot, q, frames) for t in self.tasks], axis=0)
+
+
+def stack(*tasks: Task) -> Stack:
+    """Stack tasks row-wise (flattening nested stacks)."""
+    flat: list[Task] = []
+    for t in tasks:
+        flat.extend(t.tasks if isinstance(t, Stack) else (t,))
+    return Stack(tuple(flat))

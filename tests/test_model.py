@@ -1,0 +1,359 @@
+"""Model layer and kinematics: closed forms of the papers, autodiff, finite differences, properties."""
+
+from __future__ import annotations
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import mobman
+from mobman import kinematics as K
+from mobman.model import (
+    Arm,
+    CarLike,
+    DifferentialDrive,
+    EulerAngles,
+    FunctionTask,
+    MobileManipulator,
+    Mount,
+    MountPosition,
+    Omnidirectional,
+    PlanarAngle,
+    Position,
+    stack,
+)
+from mobman.model import robots
+from mobman.model.spatial import euler_angles, euler_matrix
+
+ALL = [f() for f in robots.ROBOTS.values()]
+angles = st.floats(-math.pi, math.pi)
+
+
+def _random_q(robot, n=5, seed=0):
+    return np.random.default_rng(seed).uniform(-2, 2, size=(n, robot.n_q))
+
+
+def _finite_difference(fn, q, h=1e-6):
+    cols = []
+    for i in range(q.shape[-1]):
+        e = np.zeros_like(q)
+        e[i] = h
+        cols.append((np.asarray(fn(q + e)) - np.asarray(fn(q - e))) / (2 * h))
+    return np.stack(cols, axis=-1)
+
+
+# --- closed forms from the papers ---------------------------------------------------------------
+
+
+def test_bayle_planar_forward_and_jacobians_match_paper():
+    l1, l2 = 0.7, 0.4
+    robot = robots.bayle_planar(l1=l1, l2=l2)
+    q = np.array([0.3, -1.2, 0.4, 1.1, -0.6])
+    _, _, q3, q4, q5 = q
+    s34, c34 = math.sin(q3 + q4), math.cos(q3 + q4)
+    s345, c345 = math.sin(q3 + q4 + q5), math.cos(q3 + q4 + q5)
+    xi = [q[0] + l1 * c34 + l2 * c345, q[1] + l1 * s34 + l2 * s345, q3 + q4 + q5]
+    j = [
+        [1, 0, -(l1 * s34 + l2 * s345), -(l1 * s34 + l2 * s345), -l2 * s345],
+        [0, 1, l1 * c34 + l2 * c345, l1 * c34 + l2 * c345, l2 * c345],
+        [0, 0, 1, 1, 1],
+    ]
+    jbar = [
+        [math.cos(q3), j[0][2], j[0][3], j[0][4]],
+        [math.sin(q3), j[1][2], j[1][3], j[1][4]],
+        [0, 1, 1, 1],
+    ]
+    np.testing.assert_allclose(K.forward(robot, q), xi, atol=1e-14)
+    np.testing.assert_allclose(K.jacobian(robot, q), j, atol=1e-14)
+    np.testing.assert_allclose(K.reduced_jacobian(robot, q), jbar, atol=1e-14)
+
+
+def test_bayle_rrp_jacobians_match_paper():
+    robot = robots.bayle_rrp()
+    q = np.array([0.5, 0.2, -0.3, 0.9, 0.45, 1.3])
+    q3, q4, q5, q6 = q[2:]
+    c5, s5, c34, s34 = math.cos(q5), math.sin(q5), math.cos(q3 + q4), math.sin(q3 + q4)
+    j = np.array(
+        [
+            [1, 0, -q6 * c5 * s34, -q6 * c5 * s34, -q6 * s5 * c34, c5 * c34],
+            [0, 1, q6 * c5 * c34, q6 * c5 * c34, -q6 * s5 * s34, c5 * s34],
+            [0, 0, 0, 0, q6 * c5, s5],
+            [0, 0, 1, 1, 0, 0],
+            [0, 0, 0, 0, 1, 0],
+        ]
+    )
+    xi = [q[0] + q6 * c5 * c34, q[1] + q6 * c5 * s34, q6 * s5, q3 + q4, q5]
+    jbar = np.column_stack([math.cos(q3) * j[:, 0] + math.sin(q3) * j[:, 1], j[:, 2:]])
+    np.testing.assert_allclose(K.forward(robot, q), xi, atol=1e-14)
+    np.testing.assert_allclose(K.jacobian(robot, q), j, atol=1e-14)
+    np.testing.assert_allclose(K.reduced_jacobian(robot, q), jbar, atol=1e-14)
+
+
+def test_manus_arm_jacobian_matches_nait_chabane_eq27():
+    L2, L3, L4 = 0.12, 0.35, 0.3
+    robot = robots.manus_platform(L2=L2, L3=L3, L4=L4, a=0.0, b=0.0, c=0.0)
+    qa = np.array([0.4, 0.9, -0.5])
+    c1, s1, c2, s2, c3, s3 = (f(v) for v in qa for f in (math.cos, math.sin))
+    ja = [
+        [-(L4 * c3 + L3 * c2) * s1 - L2 * c1, -L3 * c1 * s2, -L4 * c1 * s3],
+        [(L4 * c3 + L3 * c2) * c1 - L2 * s1, -L3 * s1 * s2, -L4 * s3 * s1],
+        [0, L3 * c2, L4 * c3],
+    ]
+    xa = [(L4 * c3 + L3 * c2) * c1 - L2 * s1, (L4 * c3 + L3 * c2) * s1 + L2 * c1, L4 * s3 + L3 * s2]
+    q = np.concatenate([[0.0, 0.0, 0.0], qa])
+    np.testing.assert_allclose(K.forward(robot, q), xa, atol=1e-14)
+    np.testing.assert_allclose(np.asarray(K.jacobian(robot, q))[:, 3:], ja, atol=1e-14)
+
+
+def test_tchon_output_map_eq31():
+    l2, l3 = 0.6, 0.4
+    robot = robots.tchon_car_rtr()
+    q = np.array([1.0, -2.0, 0.3, 0.5, 0.7, 2.0, math.pi / 4])
+    q1, q2, q3, _, x1, x2, x3 = q
+    y = [q1 + (l2 + l3 * math.cos(x3)) * math.cos(q3 + x1), q2 + (l2 + l3 * math.cos(x3)) * math.sin(q3 + x1),
+         x2 + l3 * math.sin(x3)]
+    np.testing.assert_allclose(K.forward(robot, q), y, atol=1e-14)
+
+
+def test_korayem_mount_point_and_constraint_eq20_23():
+    robot = robots.korayem_planar()
+    q = np.array([0.2, 0.1, 0.7, 0.3, 1.0])
+    f = K.forward(robot, q, MountPosition())
+    np.testing.assert_allclose(f, [0.2 + 0.4 * math.cos(0.7), 0.1 + 0.4 * math.sin(0.7)], atol=1e-14)
+    # velocity of F satisfies ẋ_f sin θ − ẏ_f cos θ + l0 θ̇ = 0 for any admissible motion (eq. 22)
+    eta = np.array([0.3, -0.8, 0.1, 0.2])
+    qdot = np.asarray(K.S(robot, q)) @ eta
+    fdot = np.asarray(K.jacobian(robot, q, MountPosition())) @ qdot
+    assert abs(fdot[0] * math.sin(0.7) - fdot[1] * math.cos(0.7) + 0.4 * qdot[2]) < 1e-14
+
+
+# --- Jacobians three ways ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("robot", ALL, ids=lambda r: r.name)
+def test_geometric_jacobian_equals_autodiff_and_finite_differences(robot):
+    q = _random_q(robot, 3)
+    j = np.asarray(K.jacobian(robot, q))
+    auto = jax.vmap(jax.jacfwd(lambda qq: robot.task.value(robot, qq, robot.frames(qq))))(jnp.asarray(q))
+    np.testing.assert_allclose(j, auto, atol=1e-12)
+    for k in range(q.shape[0]):
+        fd = _finite_difference(lambda qq: K.forward(robot, qq), q[k])
+        np.testing.assert_allclose(j[k], fd, atol=1e-7)
+
+
+@pytest.mark.parametrize("sequence", ["ZYZ", "ZYX", "XYZ", "ZXZ"])
+def test_euler_angle_task_jacobian_matches_autodiff(sequence):
+    robot = robots.manus_platform().with_task(stack(Position(), EulerAngles(sequence)))
+    q = np.array([0.1, 0.2, 0.3, 0.4, 0.7, -0.2])
+    j = np.asarray(K.jacobian(robot, q))
+    auto = jax.jacfwd(lambda qq: robot.task.value(robot, qq, robot.frames(qq)))(jnp.asarray(q))
+    np.testing.assert_allclose(j, auto, atol=1e-12)
+
+
+@pytest.mark.parametrize("sequence", ["ZYZ", "ZYX", "XYZ", "ZXZ"])
+def test_euler_angles_round_trip(sequence):
+    a = np.array([0.3, 1.1, -0.7])
+    np.testing.assert_allclose(euler_angles(jnp.asarray(euler_matrix(a, sequence)), sequence), a, atol=1e-12)
+
+
+def test_planar_angle_equals_angle_sum():
+    robot = robots.bayle_planar()
+    q = np.array([0.0, 0.0, 0.2, 0.3, 0.4])
+    assert float(K.forward(robot, q, PlanarAngle())[0]) == pytest.approx(0.9)
+
+
+def test_function_task_elbow_angle():
+    robot = robots.korayem_planar()
+    task = FunctionTask(robots.elbow_angle, ("beta",))
+    q = np.array([0, 0, 0, 0.3, 1.0])
+    assert float(K.forward(robot, q, task)[0]) == pytest.approx(math.pi - 1.0)
+    np.testing.assert_allclose(K.jacobian(robot, q, task), [[0, 0, 0, 0, -1]])
+
+
+# --- properties -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("robot", ALL, ids=lambda r: r.name)
+@settings(max_examples=25, deadline=None)
+@given(data=st.data())
+def test_constraints_annihilate_S_and_reduced_jacobian_is_J_S(robot, data):
+    q = np.array(data.draw(st.lists(angles, min_size=robot.n_q, max_size=robot.n_q)))
+    np.testing.assert_allclose(np.asarray(K.constraints(robot, q)) @ np.asarray(K.S(robot, q)), 0.0, atol=1e-14)
+    np.testing.assert_allclose(
+        K.reduced_jacobian(robot, q), np.asarray(K.jacobian(robot, q)) @ np.asarray(K.S(robot, q)), atol=1e-14
+    )
+
+
+@settings(max_examples=25, deadline=None)
+@given(x=st.floats(-5, 5), y=st.floats(-5, 5), turn=angles, q=st.lists(angles, min_size=5, max_size=5))
+def test_reduced_jacobian_rotates_with_world_for_planar_task(x, y, turn, q):
+    """Moving the platform rigidly in the world rotates the position rows of J̄ and leaves the rest."""
+    robot = robots.bayle_planar()
+    q = np.array(q)
+    moved = q.copy()
+    c, s = math.cos(turn), math.sin(turn)
+    moved[:2] = [c * q[0] - s * q[1] + x, s * q[0] + c * q[1] + y]
+    moved[2] += turn
+    jb, jm = np.asarray(K.reduced_jacobian(robot, q)), np.asarray(K.reduced_jacobian(robot, moved))
+    rot = np.array([[c, -s], [s, c]])
+    np.testing.assert_allclose(jm[:2], rot @ jb[:2], atol=1e-12)
+    np.testing.assert_allclose(jm[2], jb[2], atol=1e-12)
+    np.testing.assert_allclose(np.linalg.svd(jm, compute_uv=False), np.linalg.svd(jb, compute_uv=False), atol=1e-12)
+
+
+@pytest.mark.parametrize("robot", ALL, ids=lambda r: r.name)
+def test_batched_equals_per_configuration(robot):
+    q = _random_q(robot, 4).reshape(2, 2, robot.n_q)
+    batched = np.asarray(K.reduced_jacobian(robot, q))
+    assert batched.shape == (2, 2, robot.task.dim, robot.n_eta)
+    for i in range(2):
+        for k in range(2):
+            np.testing.assert_allclose(batched[i, k], K.reduced_jacobian(robot, q[i, k]), atol=1e-15)
+
+
+def test_inverse_velocity_realises_consistent_velocity_and_respects_constraint():
+    robot = robots.bayle_planar()
+    q = np.array([0.1, 0.2, 0.3, 0.4, 0.5])
+    xi_dot = np.array([0.1, -0.2, 0.3])
+    z = np.array([1.0, -1.0, 0.5, 0.2])
+    eta, q_dot = K.inverse_velocity(robot, q, xi_dot, z=z)
+    np.testing.assert_allclose(np.asarray(K.jacobian(robot, q)) @ np.asarray(q_dot), xi_dot, atol=1e-12)
+    assert abs(float(np.asarray(K.constraints(robot, q))[0] @ np.asarray(q_dot))) < 1e-14
+    assert bool(K.is_consistent(robot, q, xi_dot))
+
+
+def test_inconsistent_velocity_detected_for_rrp():
+    robot = robots.bayle_rrp()
+    q = np.array([0.0, 0.0, 0.3, 0.5, 0.4, 1.0])
+    jbar = np.asarray(K.reduced_jacobian(robot, q))
+    left_null = np.linalg.svd(jbar)[0][:, -1]
+    assert not bool(K.is_consistent(robot, q, left_null))
+    assert bool(K.is_consistent(robot, q, jbar @ np.ones(5)))
+
+
+# --- platforms -------------------------------------------------------------------------------------
+
+
+def test_controllability_by_lie_brackets():
+    assert DifferentialDrive().is_controllable()
+    assert CarLike().lie_algebra_rank(jnp.array([0.0, 0.0, 0.0, 0.3])) == 4
+    assert CarLike().lie_algebra_rank(jnp.zeros(4), depth=1) == 2
+    assert Omnidirectional().is_controllable(depth=1)
+
+
+def test_wheel_kinematics_round_trip_korayem_eq14_15():
+    p = DifferentialDrive(wheel_radius=0.075, half_track=0.171)
+    wheels = np.array([2.0, 1.0])
+    v, w = np.asarray(p.wheel_speeds_to_eta(wheels))
+    assert v == pytest.approx(0.075 * 1.5)
+    assert w == pytest.approx(0.075 * 1.0 / (2 * 0.171))
+    np.testing.assert_allclose(p.eta_to_wheel_speeds(np.array([v, w])), wheels, atol=1e-14)
+    limits = DifferentialDrive(wheel_radius=0.075, half_track=0.171, wheel_speed_max=1 / 0.075).velocity_limits
+    assert limits == pytest.approx((1.0, 1.0 / 0.171))
+
+
+def test_car_constraints_are_no_side_slip_of_both_axles():
+    car = CarLike(length=1.3)
+    q = jnp.array([0.0, 0.0, 0.4, 0.3])
+    eta = jnp.array([0.7, 0.2])
+    qd = car.S(q) @ eta
+    front_velocity = qd[:2] + 1.3 * qd[2] * jnp.array([-jnp.sin(0.4), jnp.cos(0.4)])
+    lateral = jnp.array([-jnp.sin(0.7), jnp.cos(0.7)])
+    assert abs(float(front_velocity @ lateral)) < 1e-14
+
+
+# --- arms from DH tables ------------------------------------------------------------------------------
+
+PANDA_MDH = [
+    (0, 0, 0, 0.333), (-math.pi / 2, 0, 0, 0), (math.pi / 2, 0, 0, 0.316), (math.pi / 2, 0.0825, 0, 0),
+    (-math.pi / 2, -0.0825, 0, 0.384), (math.pi / 2, 0, 0, 0), (math.pi / 2, 0.088, 0, 0),
+]
+
+
+def _mdh_matrix(alpha, a, theta, d):
+    ca, sa, ct, st_ = math.cos(alpha), math.sin(alpha), math.cos(theta), math.sin(theta)
+    return np.array([[ct, -st_, 0, a], [st_ * ca, ct * ca, -sa, -d * sa], [st_ * sa, ct * sa, ca, d * ca],
+                     [0, 0, 0, 1]])
+
+
+def _dh_matrix(theta, d, a, alpha):
+    ca, sa, ct, st_ = math.cos(alpha), math.sin(alpha), math.cos(theta), math.sin(theta)
+    return np.array([[ct, -st_ * ca, st_ * sa, a * ct], [st_, ct * ca, -ct * sa, a * st_], [0, sa, ca, d],
+                     [0, 0, 0, 1]])
+
+
+def test_modified_dh_matches_textbook_product():
+    arm = Arm.from_modified_dh(PANDA_MDH)
+    q = np.random.default_rng(1).uniform(-2, 2, 7)
+    expected = np.eye(4)
+    for row, qi in zip(PANDA_MDH, q):
+        alpha, a, theta, d = row
+        expected = expected @ _mdh_matrix(alpha, a, theta + qi, d)
+    rs, ps = arm.link_poses(jnp.asarray(q))
+    np.testing.assert_allclose(rs[-1], expected[:3, :3], atol=1e-12)
+    np.testing.assert_allclose(ps[-1], expected[:3, 3], atol=1e-12)
+
+
+def test_standard_dh_with_prismatic_joint_matches_textbook_product():
+    table = [(0.1, 0.3, 0.2, math.pi / 2), (0.0, 0.1, 0.0, -math.pi / 2), (0.4, 0.0, 0.3, 0.0)]
+    arm = Arm.from_dh(table, "RPR")
+    q = np.array([0.3, 0.25, -0.8])
+    expected = np.eye(4)
+    for (theta, d, a, alpha), qi, kind in zip(table, q, "RPR"):
+        expected = expected @ (_dh_matrix(theta + qi, d, a, alpha) if kind == "R" else _dh_matrix(theta, d + qi, a, alpha))
+    rs, ps = arm.link_poses(jnp.asarray(q))
+    np.testing.assert_allclose(rs[-1], expected[:3, :3], atol=1e-12)
+    np.testing.assert_allclose(ps[-1], expected[:3, 3], atol=1e-12)
+
+
+def test_two_arms_and_mount_offsets():
+    arm = robots.planar_arm((1.0,))
+    robot = MobileManipulator(DifferentialDrive(), (arm, arm), (Mount(0.5), Mount(0.0, 0.3, 0.2, yaw=math.pi / 2)),
+                              task=stack(Position(arm=0), Position(arm=1)))
+    q = np.array([1.0, 2.0, 0.0, 0.0, 0.0])
+    np.testing.assert_allclose(K.forward(robot, q), [2.5, 2.0, 0.0, 1.0, 3.3, 0.2], atol=1e-14)
+    assert robot.coordinate_names == ("x", "y", "theta", "arm1.q1", "arm2.q1")
+
+
+# --- immutability and errors ----------------------------------------------------------------------------
+
+
+def test_models_are_hashable_and_equal_by_value():
+    assert robots.bayle_planar() == robots.bayle_planar()
+    assert hash(robots.bayle_planar()) == hash(robots.bayle_planar())
+    assert robots.bayle_planar(l1=0.6) != robots.bayle_planar()
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: robots.bayle_planar(l1=-1.0), "l1 must be a finite length > 0"),
+        (lambda: robots.build("nonexistent"), "unknown robot"),
+        (lambda: robots.build("bayle-planar", l9=1.0), "unknown parameter 'l9'"),
+        (lambda: DifferentialDrive(wheel_radius=0.0), "wheel_radius must be"),
+        (lambda: mobman.LinkInertial(-1.0), "mass must be"),
+        (lambda: mobman.LinkInertial(1.0, inertia=(1, 2, 0, 0, 1, 0, 0, 0, 1)), "symmetric"),
+        (lambda: mobman.LinkInertial(1.0, inertia=(-1.0, 1.0, 1.0)), "positive semi-definite"),
+        (lambda: Position("xw"), "components"),
+        (lambda: EulerAngles("ABC"), "not supported"),
+        (lambda: Arm.from_dh([(0, 0, 1)]), "4 numbers"),
+    ],
+)
+def test_bad_model_input_raises_model_error(make, match):
+    with pytest.raises(mobman.ModelError, match=match):
+        make()
+
+
+def test_bad_configuration_raises_input_error():
+    robot = robots.bayle_planar()
+    with pytest.raises(mobman.InputError, match="5 coordinates"):
+        K.forward(robot, np.zeros(4))
+    with pytest.raises(mobman.InputError, match="NaN"):
+        K.forward(robot, np.array([0, 0, np.nan, 0, 0]))
+    with pytest.raises(mobman.ModelError, match="arm index"):
+        K.forward(robot, np.zeros(5), Position(arm=2))
