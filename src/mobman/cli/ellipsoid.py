@@ -1,0 +1,1 @@
+"""Placeholder: the `mobman ellipsoid` command lands with its issue."""
