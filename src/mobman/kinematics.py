@@ -80,10 +80,11 @@ def _constraints(robot, q):
     return _batched(robot.constraints, "(c,n)")(q)
 
 
-def _q(robot: MobileManipulator, q) -> jnp.ndarray:
+def _q(robot: MobileManipulator, q):
+    """Validated configurations; NumPy arrays go to the compiled functions as they are (no device copy)."""
     if isinstance(q, jax.core.Tracer):
         return q
-    return jnp.asarray(robot.validate_q(q))
+    return robot.validate_q(q)
 
 
 def forward(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
