@@ -34,12 +34,14 @@ def main(argv: list[str] | None = None) -> None:
     except typer.Abort:
         typer.echo("aborted", err=True)
         sys.exit(1)
-    except Exception as exc:  # click usage errors carry their own exit code
-        import click
-
-        if isinstance(exc, click.exceptions.ClickException):
-            typer.echo(f"error: {exc.format_message()}", err=True)
+    except Exception as exc:
+        # Usage errors of the CLI library (click, vendored by recent Typer) are recognised by their interface,
+        # so that no particular click import path is assumed.
+        format_message = getattr(exc, "format_message", None)
+        if callable(format_message):
+            typer.echo(f"error: {format_message()}", err=True)
             sys.exit(2)
-        if isinstance(exc, click.exceptions.Exit):
-            sys.exit(exc.exit_code)
+        exit_code = getattr(exc, "exit_code", None)
+        if isinstance(exit_code, int):
+            sys.exit(exit_code)
         raise
