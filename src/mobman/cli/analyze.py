@@ -1,1 +1,177 @@
-"""Placeholder: the `mobman analyze` command lands with its issue (see the issue tracker)."""
+"""``mobman analyze``: kinematics, redundancy, singularities and manipulability of a robot at configurations.
+
+For each configuration: ξ, J, J̄, their ranks, the singular values of J̄, the KSC / VSC flags with their
+orders, and w / w2 / w5 of the arm (J_a), the system (J̄) and the normalised system (J̄_N); once per robot the
+redundancy report (M, δ, D, R, D̄, R̄). Measures are restricted to the admissible subspace where D̄ < m
+(``restricted`` / ``measure_rank`` say so). ``--symbolic`` adds J̄ in closed form and the factored
+rank-drop conditions.
+
+Default configuration (no ``--q`` / ``--q-file``): the platform at the origin (all platform coordinates 0)
+and arm joint k (k = 1, 2, … within each arm) at 0.5·k rad or m, clipped to the joint limits — a regular
+posture of every built-in robot (no joint pair aligned, no VSC).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from mobman import kinematics as K
+from mobman import manipulability as mp
+from mobman import redundancy
+from mobman.cli import app
+from mobman.cli.common import load_robot, parse_vector, read_configurations
+from mobman.errors import InputError
+from mobman.io import dump_json
+from mobman.model.robot import MobileManipulator
+
+LEVELS = ("arm", "system", "system_normalized")
+
+
+def default_configuration(robot: MobileManipulator) -> np.ndarray:
+    """Platform at the origin, arm joint k of each arm at 0.5·k (rad or m), clipped to the joint limits."""
+    q = np.zeros(robot.n_q)
+    for i, arm in enumerate(robot.arms):
+        q[robot.arm_slice(i)] = 0.5 * np.arange(1, arm.n_joints + 1)
+    lower, upper = np.array(robot.position_limits).T
+    return np.clip(q, lower, upper)
+
+
+def _configurations(robot: MobileManipulator, q: str | None, q_file: Path | None) -> np.ndarray:
+    if q is not None and q_file is not None:
+        raise InputError("give either --q or --q-file, not both")
+    if q_file is not None:
+        return read_configurations(q_file, robot)
+    if q is not None:
+        return parse_vector(q, "--q", robot.n_q)[None, :]
+    return default_configuration(robot)[None, :]
+
+
+def analysis(robot: MobileManipulator, q: np.ndarray) -> dict:
+    """The JSON-ready analysis of configurations q (n, n_q): one batched call per quantity."""
+    report = redundancy.redundancy_report(robot)
+    xi = np.asarray(K.forward(robot, q))
+    jac = np.asarray(K.jacobian(robot, q))
+    jbar = np.asarray(K.reduced_jacobian(robot, q))
+    d, d_bar = redundancy.ranks(robot, q)
+    ksc = redundancy.is_kinematic_singular(robot, q)
+    vsc = redundancy.is_velocity_singular(robot, q)
+    sigma = np.linalg.svd(jbar, compute_uv=False)
+    measures = mp.analyze(robot, q, rank="auto")
+    results = []
+    for k in range(q.shape[0]):
+        manipulability = {
+            level: None if measures[level] is None else {name: float(v[k]) for name, v in measures[level].items()}
+            for level in LEVELS
+        }
+        manipulability["restricted"] = bool(measures["restricted"])
+        manipulability["measure_rank"] = measures["ranks"]
+        results.append({
+            "q": q[k], "xi": xi[k], "J": jac[k], "J_bar": jbar[k],
+            "rank_J": int(d[k]), "rank_J_bar": int(d_bar[k]), "singular_values": sigma[k],
+            "kinematic_singular": bool(ksc.singular[k]), "kinematic_singularity_order": int(ksc.order[k]),
+            "velocity_singular": bool(vsc.singular[k]), "velocity_singularity_order": int(vsc.order[k]),
+            "manipulability": manipulability,
+        })
+    return {
+        "robot": robot.name,
+        "params": dict(robot.parameters),
+        "coordinates": list(robot.coordinate_names),
+        "controls": list(robot.control_names),
+        "task": list(robot.task.names),
+        "redundancy": report.as_dict(),
+        "results": results,
+    }
+
+
+def symbolic_analysis(robot: MobileManipulator) -> dict:
+    """J̄ in closed form and the factored rank-drop conditions (VSC and KSC)."""
+    from mobman import symbolic
+
+    model = symbolic.model(robot)
+    velocity = symbolic.rank_drop_conditions(robot)
+    kinematic = symbolic.rank_drop_conditions(robot, which="kinematic")
+    return {
+        "coordinates": [str(v) for v in model.q],
+        "J_bar": str(model.reduced_jacobian()),
+        "J_bar_latex": symbolic.sp.latex(model.reduced_jacobian()),
+        "velocity_singular_where": str(velocity.condition),
+        "kinematic_singular_where": str(kinematic.condition),
+        "_pretty": symbolic.sp.pretty(model.reduced_jacobian(), use_unicode=True, wrap_line=False),
+    }
+
+
+@app.command("analyze")
+def analyze_command(
+    robot_name: str = typer.Argument(..., metavar="ROBOT", help="A built-in robot (see `mobman robots`)."),
+    param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
+    q: str = typer.Option(None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."),
+    q_file: Path = typer.Option(None, "--q-file", help="CSV file: one configuration per row, optional header."),
+    json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    symbolic: bool = typer.Option(False, "--symbolic", help="Also give J̄ in closed form and rank-drop conditions."),
+) -> None:
+    """Kinematics, redundancy (M, δ, D, R, D̄, R̄), singularities and manipulability at configurations."""
+    robot = load_robot(robot_name, param)
+    configurations = _configurations(robot, q, q_file)
+    result = analysis(robot, configurations)
+    sym = symbolic_analysis(robot) if symbolic else None
+    if json_output:
+        if sym is not None:
+            result["symbolic"] = {k: v for k, v in sym.items() if not k.startswith("_")}
+        typer.echo(dump_json(result))
+        return
+    _print(result, sym)
+
+
+def _fmt(values, digits: int = 4) -> str:
+    return np.array2string(np.asarray(values, dtype=float), precision=digits, suppress_small=True,
+                           max_line_width=120)
+
+
+def _print(result: dict, sym: dict | None) -> None:
+    console = Console()
+    head = Table(title=f"{result['robot']}", show_header=False)
+    head.add_row("parameters", ", ".join(f"{k}={v:g}" for k, v in result["params"].items()) or "—")
+    head.add_row("coordinates q", ", ".join(result["coordinates"]))
+    head.add_row("controls η", ", ".join(result["controls"]))
+    head.add_row("task ξ", ", ".join(result["task"]))
+    console.print(head)
+    red = Table(title="redundancy (Bayle §3–4)")
+    labels = {"M": "M", "delta": "δ", "D": "D", "R": "R", "D_bar": "D̄", "R_bar": "R̄"}
+    for key in labels.values():
+        red.add_column(key, justify="right")
+    red.add_row(*(str(result["redundancy"][k]) for k in labels))
+    console.print(red)
+    for i, r in enumerate(result["results"], start=1):
+        table = Table(title=f"configuration {i}", show_header=False)
+        table.add_row("q", _fmt(r["q"]))
+        table.add_row("ξ", _fmt(r["xi"]))
+        table.add_row("J", _fmt(r["J"]))
+        table.add_row("J̄", _fmt(r["J_bar"]))
+        table.add_row("rank J, rank J̄", f"{r['rank_J']}, {r['rank_J_bar']}")
+        table.add_row("singular values of J̄", _fmt(r["singular_values"], 6))
+        table.add_row("kinematic singular (order)", f"{r['kinematic_singular']} ({r['kinematic_singularity_order']})")
+        table.add_row("velocity singular (order)", f"{r['velocity_singular']} ({r['velocity_singularity_order']})")
+        console.print(table)
+        man = r["manipulability"]
+        ranks = man["measure_rank"]
+        note = "restricted to the admissible subspace" if man["restricted"] else "plain"
+        mtable = Table(title=f"manipulability, configuration {i} ({note}; ranks {ranks})")
+        for column in ("Jacobian", "w (yoshikawa)", "w2 (inverse condition)", "w5 (eccentricity)"):
+            mtable.add_column(column, justify="right")
+        for level, label in zip(LEVELS, ("arm J_a", "system J̄", "normalised J̄_N")):
+            m = man[level]
+            if m is None:
+                mtable.add_row(label, "—", "—", "—")
+            else:
+                mtable.add_row(label, *(f"{m[k]:.6g}" for k in ("yoshikawa", "inverse_condition", "eccentricity")))
+        console.print(mtable)
+    if sym is not None:
+        console.print(f"J̄(q), q = ({', '.join(sym['coordinates'])}):")
+        console.print(sym["_pretty"], soft_wrap=True, markup=False, highlight=False)
+        console.print(f"velocity singular (d̄ < D̄) where: {sym['velocity_singular_where']}", markup=False)
+        console.print(f"kinematic singular (d < D) where: {sym['kinematic_singular_where']}", markup=False)

@@ -1,0 +1,163 @@
+"""Benchmark: reduced Jacobian J̄ (6 × 9) and the manipulability measures w, w2, w5 of a Franka Panda arm
+on a differential-drive base, batched and one configuration at a time, against a NumPy per-call baseline.
+
+    python benchmarks/kinematics.py            # 100,000 configurations
+    python benchmarks/kinematics.py --n 1000000
+    python benchmarks/kinematics.py --smoke    # tiny sizes (CI)
+
+The 6 task rows are the end-effector position and its ZYX Euler angles (``EulerAngles("ZYX")``): the
+analytic Jacobian a task-space controller uses. Timings are the best of a few repetitions after compilation.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import jax
+import numpy as np
+
+import mobman  # noqa: F401  (float64)
+from mobman import manipulability as mp
+from mobman.model import Arm, DifferentialDrive, MobileManipulator
+from mobman.model.spatial import transform
+from mobman.model.task import EulerAngles, Position, stack
+
+# Franka Emika Panda, modified DH (Craig): rows (α_{i−1}, a_{i−1}, θ_i, d_i); flange 0.107 m along z.
+PANDA_A = (0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088)
+PANDA_D = (0.333, 0.0, 0.316, 0.0, 0.384, 0.0, 0.0)
+PANDA_ALPHA = (0.0, -math.pi / 2, math.pi / 2, math.pi / 2, -math.pi / 2, math.pi / 2, math.pi / 2)
+PANDA_LIMITS = ((-2.8973, 2.8973), (-1.7628, 1.7628), (-2.8973, 2.8973), (-3.0718, -0.0698),
+                (-2.8973, 2.8973), (-0.0175, 3.7525), (-2.8973, 2.8973))
+PANDA_SPEEDS = (2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61)
+
+
+def panda_on_differential_base() -> MobileManipulator:
+    """Panda (7 joints) on a differential base (v_max = 1 m/s, ω_max = 1.5 rad/s), task = position + ZYX."""
+    table = [(al, a, 0.0, d) for al, a, d in zip(PANDA_ALPHA, PANDA_A, PANDA_D)]
+    arm = Arm.from_modified_dh(table, tool=transform(None, (0.0, 0.0, 0.107)), limits=PANDA_LIMITS,
+                               velocity_limits=PANDA_SPEEDS, name="panda")
+    return MobileManipulator(DifferentialDrive(v_max=1.0, omega_max=1.5), (arm,),
+                             task=stack(Position("xyz"), EulerAngles("ZYX")), name="panda-diff")
+
+
+def random_configurations(robot: MobileManipulator, n: int, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    low = np.array([-5.0, -5.0, -math.pi] + [lo for lo, _ in PANDA_LIMITS])
+    high = np.array([5.0, 5.0, math.pi] + [hi for _, hi in PANDA_LIMITS])
+    return rng.uniform(low, high, size=(n, robot.n_q))
+
+
+# --- NumPy per-call baseline: homogeneous transforms, geometric Jacobian, ZYX rate map, np.linalg.svd ---
+
+
+def _numpy_jbar(q: np.ndarray) -> np.ndarray:
+    x, y, th = q[:3]
+    c, s = math.cos(th), math.sin(th)
+    t = np.array([[c, -s, 0.0, x], [s, c, 0.0, y], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    origins, axes = [], []
+    for i in range(7):
+        ca, sa = math.cos(PANDA_ALPHA[i]), math.sin(PANDA_ALPHA[i])
+        ct, st = math.cos(q[3 + i]), math.sin(q[3 + i])
+        t = t @ np.array([[ct, -st, 0.0, PANDA_A[i]], [st * ca, ct * ca, -sa, -sa * PANDA_D[i]],
+                          [st * sa, ct * sa, ca, ca * PANDA_D[i]], [0.0, 0.0, 0.0, 1.0]])
+        origins.append(t[:3, 3].copy())
+        axes.append(t[:3, 2].copy())
+    r = t[:3, :3]
+    p = t[:3, 3] + 0.107 * r[:, 2]
+    jl = np.zeros((3, 10))
+    jw = np.zeros((3, 10))
+    jl[0, 0] = jl[1, 1] = 1.0
+    jl[:, 2] = np.cross([0.0, 0.0, 1.0], p - np.array([x, y, 0.0]))
+    jw[2, 2] = 1.0
+    for i in range(7):
+        jl[:, 3 + i] = np.cross(axes[i], p - origins[i])
+        jw[:, 3 + i] = axes[i]
+    yaw, pitch = math.atan2(r[1, 0], r[0, 0]), math.asin(max(-1.0, min(1.0, -r[2, 0])))
+    cy, sy, cp, tp = math.cos(yaw), math.sin(yaw), math.cos(pitch), math.tan(pitch)
+    # ω = E(yaw, pitch) (ẏaw, ṗitch, ṙoll) inverted for ZYX angles
+    e_inv = np.array([[cy * tp, sy * tp, 1.0], [-sy, cy, 0.0], [cy / cp, sy / cp, 0.0]])
+    j = np.vstack([jl, e_inv @ jw])
+    s_mat = np.zeros((10, 9))
+    s_mat[0, 0], s_mat[1, 0], s_mat[2, 1] = c, s, 1.0
+    s_mat[3:, 2:] = np.eye(7)
+    return j @ s_mat
+
+
+def numpy_baseline(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    jbars, out = [], []
+    for qi in q:
+        jb = _numpy_jbar(qi)
+        sv = np.linalg.svd(jb, compute_uv=False)
+        out.append((np.prod(sv), sv[-1] / sv[0], math.sqrt(1.0 - (sv[-1] / sv[0]) ** 2)))
+        jbars.append(jb)
+    return np.array(jbars), np.array(out)
+
+
+# --- timed variants ----------------------------------------------------------------------------------
+
+
+def batched(robot, q):
+    jbar = mp.system_jacobian(robot, q)
+    return jbar, mp.measures(jbar)
+
+
+def single(robot, q):
+    out = None
+    for qi in q:
+        jbar = mp.system_jacobian(robot, qi)
+        out = (jbar, mp.measures(jbar))
+    return out
+
+
+def best_time(fn, repeat: int) -> float:
+    best = math.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        jax.block_until_ready(fn())
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=100_000, help="configurations in the batched run")
+    parser.add_argument("--single", type=int, default=2_000, help="configurations in the one-at-a-time run")
+    parser.add_argument("--baseline", type=int, default=300, help="configurations in the NumPy baseline")
+    parser.add_argument("--smoke", action="store_true", help="tiny sizes for CI")
+    args = parser.parse_args(argv)
+    if args.smoke:
+        args.n, args.single, args.baseline = 1_000, 50, 20
+    robot = panda_on_differential_base()
+    q = random_configurations(robot, args.n)
+
+    t0 = time.perf_counter()
+    jbar, meas = jax.block_until_ready(batched(robot, q))
+    first = time.perf_counter() - t0
+    t_batch = best_time(lambda: batched(robot, q), 3)
+    single(robot, q[:2])
+    t_single = best_time(lambda: single(robot, q[: args.single]), 2)
+    nb = min(args.baseline, args.n)
+    t0 = time.perf_counter()
+    jbar_np, meas_np = numpy_baseline(q[:nb])
+    t_numpy = time.perf_counter() - t0
+
+    err_j = float(np.max(np.abs(np.asarray(jbar[:nb]) - jbar_np)))
+    ours = np.stack([np.asarray(meas[k][:nb]) for k in mp.MEASURES], axis=-1)
+    err_m = float(np.max(np.abs(ours - meas_np)))
+    rows = [
+        ("batched public API (system_jacobian + measures)", args.n, t_batch),
+        ("single configuration, public API", args.single, t_single),
+        ("NumPy per call (J̄ + np.linalg.svd)", nb, t_numpy),
+    ]
+    print(f"Panda on a differential base, J̄ 6 × 9 (position + ZYX Euler rows) + w, w2, w5; device: "
+          f"{jax.devices()[0].platform}; first batched call (compile) {first:.1f} s")
+    print(f"{'variant':50s} {'configs':>9s} {'µs/config':>11s} {'configs/s':>12s}")
+    for name, n, t in rows:
+        print(f"{name:50s} {n:9d} {1e6 * t / n:11.3f} {n / t:12.3e}")
+    print(f"max |J̄ − NumPy| = {err_j:.1e}, max |measures − NumPy SVD| = {err_m:.1e}")
+
+
+if __name__ == "__main__":
+    main()

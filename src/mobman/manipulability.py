@@ -1,0 +1,306 @@
+"""Manipulability measures of arms and of whole nonholonomic mobile manipulators (Nait-Chabane §3, Bayle §6–7).
+
+For a Jacobian J (m × k) with singular values σ_1 ≥ … ≥ σ_m (Nait-Chabane eq. 15–17):
+
+- Yoshikawa's manipulability w = σ_1⋯σ_m = √det(J Jᵀ) (eq. 13, 17),
+- the inverse condition number w2 = σ_m / σ_1 (eq. 18),
+- the eccentricity of the manipulability ellipsoid w5 = √(1 − σ_m² / σ_1²) (eq. 19; Bayle et al.).
+
+They apply to the arm's Jacobian J_a (platform fixed), to the reduced Jacobian J̄ = J S of the whole system
+(ξ̇ = J̄ η, Bayle eq. 2) and to the normalised J̄_N = J̄ · R, R = diag(v_max, ω_max, q̇_a,max…) (Nait-Chabane
+eq. 20–26), which gives the mixed units of η a common scale. A rank-deficient J gives w = 0, w2 = 0, w5 = 1.
+
+**Restricted measures.** When the velocity degree D̄ is smaller than m (``robots.bayle_rrp``: J̄ is 5 × 5 of
+rank ≤ 4 everywhere), the plain measures are identically degenerate. ``rank=r`` restricts them to the
+admissible subspace, the span of the r largest singular directions: w = σ_1⋯σ_r, w2 = σ_r / σ_1,
+w5 = √(1 − σ_r² / σ_1²). ``rank="auto"`` (in :func:`analyze`, :func:`gradient`) uses D̄ for the system and the
+generic rank of J_a for the arm whenever it is below m, and plain measures otherwise.
+
+**Numerics.** Singular values come from the eigenvalues λ_i = σ_i² of the smaller Gram matrix (J Jᵀ or Jᵀ J),
+computed by the batched Jacobi solver of :mod:`mobman.linalg`: absolute accuracy about eps · σ_1² on λ, so
+σ_i to about eps · σ_1² / σ_i (relative) and a tiny σ to about √eps · σ_1 absolute (see docs/manipulability.md).
+Gradients use the eigenvalue perturbation rule; they are finite everywhere, exact away from repeated singular
+values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, get a zero derivative).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache, partial
+from typing import Literal
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mobman import kinematics as K
+from mobman import linalg
+from mobman.errors import InputError, ModelError
+from mobman.model.robot import MobileManipulator
+from mobman.model.task import Task
+
+MEASURES = ("yoshikawa", "inverse_condition", "eccentricity")
+WHICH = ("arm", "system", "system_normalized")
+
+Rank = int | Literal["auto"] | None
+
+
+# --- measures of a Jacobian ---------------------------------------------------------------------
+
+
+def _safe_sqrt(x: jnp.ndarray) -> jnp.ndarray:
+    """√x for x ≥ 0 (negative rounding errors clipped), with a finite (zero) derivative at x = 0."""
+    x = jnp.maximum(x, 0.0)
+    positive = x > 0
+    return jnp.where(positive, jnp.sqrt(jnp.where(positive, x, 1.0)), 0.0)
+
+
+def _safe_ratio(num: jnp.ndarray, den: jnp.ndarray) -> jnp.ndarray:
+    """num / den, 0 where den = 0 (finite derivative)."""
+    ok = den > 0
+    return jnp.where(ok, num / jnp.where(ok, den, 1.0), 0.0)
+
+
+def _check_rank(rank, p: int) -> None:
+    if rank is not None and not (isinstance(rank, (int, np.integer)) and 1 <= rank <= p):
+        raise InputError(f"rank must be None or an integer in 1..{p} (the number of singular values), got {rank!r}")
+
+
+def _squared_singular_values(j: jnp.ndarray) -> jnp.ndarray:
+    """σ_i² (..., min(m, k)), descending, from the smaller Gram matrix."""
+    return linalg.eigvalsh(linalg.gram(j))
+
+
+def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[str, jnp.ndarray]:
+    """w, w2, w5 from the squared singular values λ (descending, p = min(m, k) of them)."""
+    p = lam.shape[-1]
+    lam = jnp.maximum(lam, 0.0)
+    if rank is None and p < m:  # fewer columns than rows: σ_{p+1..m} = 0, always degenerate
+        zero = jnp.zeros(lam.shape[:-1], lam.dtype)
+        return {"yoshikawa": zero, "inverse_condition": zero, "eccentricity": zero + 1.0}
+    r = p if rank is None else rank
+    top, low = lam[..., 0], lam[..., r - 1]
+    ratio = jnp.clip(_safe_ratio(low, top), 0.0, 1.0)
+    return {
+        "yoshikawa": _safe_sqrt(jnp.prod(lam[..., :r], axis=-1)),
+        "inverse_condition": _safe_sqrt(ratio),
+        "eccentricity": jnp.where(top > 0, _safe_sqrt(1.0 - ratio), 1.0),
+    }
+
+
+@partial(jax.jit, static_argnums=(1,))
+def _measures(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
+    return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)
+
+
+@jax.jit
+def _singular_values(j: jnp.ndarray) -> jnp.ndarray:
+    return _safe_sqrt(_squared_singular_values(j))
+
+
+def _as_jacobian(j) -> jnp.ndarray:
+    if isinstance(j, jax.core.Tracer):
+        return j
+    arr = jnp.asarray(j, dtype=float)
+    if arr.ndim < 2:
+        raise InputError(f"a Jacobian must have shape (..., m, k), got shape {arr.shape}")
+    return arr
+
+
+def singular_values(j) -> jnp.ndarray:
+    """Singular values of (..., m, k) matrices, shape (..., min(m, k)), descending."""
+    return _singular_values(_as_jacobian(j))
+
+
+def measures(j, rank: int | None = None) -> dict[str, jnp.ndarray]:
+    """The three measures of (..., m, k) Jacobians, each of shape (...) (Nait-Chabane eq. 17–19).
+
+    ``{"yoshikawa": w, "inverse_condition": w2, "eccentricity": w5}``; with ``rank=r`` they are restricted to
+    the r largest singular values (w = σ_1⋯σ_r, σ_min = σ_r). Rank-deficient: w = 0, w2 = 0, w5 = 1.
+    """
+    j = _as_jacobian(j)
+    _check_rank(rank, min(j.shape[-2:]))
+    return _measures(j, None if rank is None else int(rank))
+
+
+def yoshikawa(j, rank: int | None = None) -> jnp.ndarray:
+    """w = σ_1⋯σ_m = √det(J Jᵀ) (Yoshikawa; Nait-Chabane eq. 13, 17), or σ_1⋯σ_r with ``rank=r``."""
+    return measures(j, rank)["yoshikawa"]
+
+
+def inverse_condition(j, rank: int | None = None) -> jnp.ndarray:
+    """w2 = σ_m / σ_1 (Nait-Chabane eq. 18), or σ_r / σ_1 with ``rank=r``."""
+    return measures(j, rank)["inverse_condition"]
+
+
+def eccentricity(j, rank: int | None = None) -> jnp.ndarray:
+    """w5 = √(1 − σ_m² / σ_1²) (Nait-Chabane eq. 19), or with σ_r in place of σ_m with ``rank=r``."""
+    return measures(j, rank)["eccentricity"]
+
+
+@jax.jit
+def _ellipsoid(j):
+    lam, u = linalg.eigh(jnp.sum(j[..., :, None, :] * j[..., None, :, :], axis=-1))
+    return _safe_sqrt(lam), u
+
+
+def ellipsoid(j) -> tuple[jnp.ndarray, jnp.ndarray]:
+    """Manipulability ellipsoid {J η : ‖η‖ ≤ 1} of (..., m, k) Jacobians (Nait-Chabane §3.1).
+
+    Returns the principal semi-axes (..., m), descending (the singular values, zero-padded when k < m), and
+    their unit directions (..., m, m) as columns (the left singular vectors, eigenvectors of J Jᵀ).
+    """
+    return _ellipsoid(_as_jacobian(j))
+
+
+# --- Jacobians of a robot -------------------------------------------------------------------------
+
+
+def _limits(robot: MobileManipulator) -> np.ndarray:
+    limits = robot.velocity_limits
+    if limits is None:
+        raise ModelError(
+            f"{robot.name}: normalised measures need velocity limits for every quasi-velocity "
+            f"({', '.join(robot.control_names)}); give the platform's (v_max, ω_max) and every joint's velocity_max"
+        )
+    return np.asarray(limits, dtype=float)
+
+
+def _check_arm(robot: MobileManipulator, arm: int) -> None:
+    if not (isinstance(arm, (int, np.integer)) and 0 <= arm < len(robot.arms)):
+        raise InputError(f"{robot.name}: arm index must be in 0..{len(robot.arms) - 1}, got {arm!r}")
+
+
+def arm_jacobian(robot: MobileManipulator, q, task: Task | None = None, arm: int = 0) -> jnp.ndarray:
+    """J_a: the columns of J = ∂ξ/∂q for arm ``arm``'s coordinates (platform fixed), shape (..., m, n_a)."""
+    _check_arm(robot, arm)
+    return K.jacobian(robot, q, task)[..., robot.arm_slice(arm)]
+
+
+def system_jacobian(robot: MobileManipulator, q, task: Task | None = None, normalized: bool = False) -> jnp.ndarray:
+    """J̄ = J S (Bayle eq. 2), or J̄_N = J̄ · diag(robot.velocity_limits) (Nait-Chabane eq. 23), (..., m, δ).
+
+    Raises ModelError for ``normalized=True`` when the robot lacks velocity limits.
+    """
+    jbar = K.reduced_jacobian(robot, q, task)
+    return jbar * _limits(robot) if normalized else jbar
+
+
+# --- restricted rank ------------------------------------------------------------------------------
+
+
+@lru_cache(maxsize=64)
+def admissible_ranks(robot: MobileManipulator, task: Task | None = None) -> dict[str, int]:
+    """Generic ranks {"arm": rank J_a, "system": D̄} (maximum over seeded random configurations, as in
+    :func:`mobman.redundancy.redundancy_report`); ``"system_normalized"`` equals ``"system"``."""
+    from mobman import redundancy
+
+    q = redundancy.sample_configurations(robot, 32)
+    d_arm = int(K.rank(np.asarray(arm_jacobian(robot, q, task)), redundancy.RTOL).max())
+    d_bar = redundancy.redundancy_report(robot, task).D_bar
+    return {"arm": d_arm, "system": d_bar, "system_normalized": d_bar}
+
+
+def _resolve_rank(robot, task, which: str, rank: Rank) -> int | None:
+    """The rank used for ``which``: ``None`` (plain), an integer, or ``"auto"`` (generic rank if below m)."""
+    if rank != "auto":
+        return rank
+    m = (task or robot.task).dim
+    r = admissible_ranks(robot, task)[which]
+    return r if r < m else None
+
+
+# --- whole-robot analysis -------------------------------------------------------------------------
+
+
+def _jacobian_of(robot, q, task, which: str) -> jnp.ndarray:
+    if which == "arm":
+        return arm_jacobian(robot, q, task)
+    if which == "system":
+        return system_jacobian(robot, q, task)
+    if which == "system_normalized":
+        return system_jacobian(robot, q, task, normalized=True)
+    raise InputError(f"which must be one of {', '.join(WHICH)}, got {which!r}")
+
+
+def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = None) -> dict:
+    """The three measures of the arm (J_a), the system (J̄) and the normalised system (J̄_N), batched.
+
+    Returns ``{"arm": {...}, "system": {...}, "system_normalized": {...} or None (no velocity limits),
+    "restricted": bool, "ranks": {"arm": r or None, "system": r or None}}``, each ``{...}`` holding
+    ``yoshikawa``, ``inverse_condition`` and ``eccentricity`` arrays of the leading shape of q.
+
+    ``rank=None``: plain measures; an integer r: system measures restricted to the r largest singular values
+    (the arm's to min(r, n_a)); ``"auto"``: restricted to the admissible subspace wherever the generic rank
+    (D̄ for the system) is below m. ``restricted`` says whether any reported measure is a restricted one.
+    """
+    jac = K.jacobian(robot, q, task)
+    jbar = jac @ K.S(robot, q)
+    j_arm = jac[..., robot.arm_slice(0)]
+    if isinstance(rank, (int, np.integer)):
+        ranks = {"arm": min(int(rank), j_arm.shape[-1]), "system": int(rank)}
+    else:
+        ranks = {"arm": _resolve_rank(robot, task, "arm", rank), "system": _resolve_rank(robot, task, "system", rank)}
+    out = {"arm": measures(j_arm, ranks["arm"]), "system": measures(jbar, ranks["system"])}
+    limits = robot.velocity_limits
+    out["system_normalized"] = None if limits is None else measures(jbar * np.asarray(limits), ranks["system"])
+    out["restricted"] = any(r is not None for r in ranks.values())
+    out["ranks"] = ranks
+    return out
+
+
+@partial(jax.jit, static_argnums=(0, 2, 3, 4, 5))
+def _gradient(robot, q, task, which, measure, rank):
+    limits = np.asarray(robot.velocity_limits) if which == "system_normalized" else None
+
+    def value(qq):
+        jac = K._jacobian_one(robot, task, qq)
+        if which == "arm":
+            j = jac[:, robot.arm_slice(0)]
+        else:
+            j = jac @ robot.S(qq)
+            if limits is not None:
+                j = j * limits
+        return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)[measure]
+
+    return jnp.vectorize(jax.grad(value), signature="(n)->(n)")(q)
+
+
+def gradient(
+    robot: MobileManipulator,
+    q,
+    which: str = "system",
+    measure: str = "eccentricity",
+    task: Task | None = None,
+    rank: Rank = None,
+) -> jnp.ndarray:
+    """∂P/∂q (..., n_q) of a measure P ∈ {yoshikawa, inverse_condition, eccentricity} of the arm, system
+    or normalised-system Jacobian, by autodiff (batched, compiled). Finite everywhere; see the module notes
+    on repeated singular values. The criterion gradients of Nait-Chabane §4.3 / Bayle §7 are this function.
+    """
+    if measure not in MEASURES:
+        raise InputError(f"measure must be one of {', '.join(MEASURES)}, got {measure!r}")
+    if which not in WHICH:
+        raise InputError(f"which must be one of {', '.join(WHICH)}, got {which!r}")
+    if which == "system_normalized":
+        _limits(robot)
+    task = K._task(robot, task)
+    r = _resolve_rank(robot, task, which, rank)
+    p = min(task.dim, robot.arms[0].n_joints if which == "arm" else robot.n_eta)
+    _check_rank(r, p)
+    return _gradient(robot, K._q(robot, q), task, which, measure, None if r is None else int(r))
+
+
+__all__ = [
+    "MEASURES",
+    "admissible_ranks",
+    "analyze",
+    "arm_jacobian",
+    "eccentricity",
+    "ellipsoid",
+    "gradient",
+    "inverse_condition",
+    "measures",
+    "singular_values",
+    "system_jacobian",
+    "yoshikawa",
+]
