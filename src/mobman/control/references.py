@@ -1,0 +1,254 @@
+"""Operational references ξ*(t) with their time derivatives ξ̇*(t).
+
+Every reference is a frozen dataclass and a JAX pytree (its numbers are leaves: a new ellipse does not
+recompile the simulation) with a
+``dim`` and ``__call__(t) -> (xi_star, xi_star_dot)``; ``t`` is a scalar or an array of times (the outputs
+then have shape ``t.shape + (dim,)``). Before t = 0 a reference holds its initial value, after its end it
+holds its final value (with zero velocity), except the periodic :class:`Ellipse`.
+
+Timing laws s(τ), τ ∈ [0, 1] (Biagiotti & Melchiorri, *Trajectory planning for automatic machines*, §2.1):
+``linear`` s = τ (constant speed), ``cubic`` s = 3τ² − 2τ³, ``quintic`` s = 10τ³ − 15τ⁴ + 6τ⁵ (zero velocity
+— and, quintic, zero acceleration — at both ends).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mobman.control._tree import pytree
+from mobman.errors import ModelError
+
+TIMINGS = ("linear", "cubic", "quintic")
+
+
+def _vector(value, name: str, owner: str, size: int | None = None) -> np.ndarray:
+    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    if arr.ndim != 1 or (size is not None and arr.size != size):
+        raise ModelError(f"{owner}: {name} must be a vector of {size or 'one or more'} numbers, got {value!r}")
+    if not np.all(np.isfinite(arr)):
+        raise ModelError(f"{owner}: {name} must be finite, got {value!r}")
+    return arr
+
+
+def _positive(value, name: str, owner: str) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"{owner}: {name} must be a number > 0, got {value!r}") from None
+    if not (np.isfinite(value) and value > 0):
+        raise ModelError(f"{owner}: {name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def _check_timing(timing: str, owner: str) -> None:
+    if timing not in TIMINGS:
+        raise ModelError(f"{owner}: timing {timing!r} not supported; allowed: {', '.join(TIMINGS)}")
+
+
+def timing_law(tau: jnp.ndarray, timing: str) -> tuple[jnp.ndarray, jnp.ndarray]:
+    """s(τ) and ds/dτ for τ already clipped to [0, 1]."""
+    if timing == "linear":
+        return tau, jnp.ones_like(tau)
+    if timing == "cubic":
+        return tau * tau * (3.0 - 2.0 * tau), 6.0 * tau * (1.0 - tau)
+    return tau**3 * (10.0 + tau * (-15.0 + 6.0 * tau)), 30.0 * tau**2 * (1.0 - tau) ** 2
+
+
+@dataclass(frozen=True, eq=False)
+class Reference:
+    """Base class: subclasses define ``dim`` and ``_one(t)`` for a scalar t."""
+
+    @property
+    def dim(self) -> int:
+        raise NotImplementedError
+
+    def _one(self, t: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
+        raise NotImplementedError
+
+    def __call__(self, t) -> tuple[jnp.ndarray, jnp.ndarray]:
+        """(ξ*(t), ξ̇*(t)), each of shape ``jnp.shape(t) + (dim,)``."""
+        t = jnp.asarray(t, dtype=float)
+        return jnp.vectorize(self._one, signature="()->(m),(m)")(t)
+
+
+@pytree("start", "end", "duration")
+@dataclass(frozen=True, eq=False)
+class Line(Reference):
+    """Straight segment from ``start`` to ``end`` in ``duration`` seconds with a timing law (any dimension)."""
+
+    start: tuple[float, ...]
+    end: tuple[float, ...]
+    duration: float
+    timing: str = "linear"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "start", _vector(self.start, "start", "Line"))
+        object.__setattr__(self, "end", _vector(self.end, "end", "Line", len(self.start)))
+        object.__setattr__(self, "duration", np.float64(_positive(self.duration, "duration", "Line")))
+        _check_timing(self.timing, "Line")
+
+    @property
+    def dim(self) -> int:
+        return len(self.start)
+
+    def _one(self, t):
+        tau = jnp.clip(t / self.duration, 0.0, 1.0)
+        inside = (t >= 0.0) & (t <= self.duration)
+        s, ds = timing_law(tau, self.timing)
+        delta = jnp.asarray(self.end) - jnp.asarray(self.start)
+        return jnp.asarray(self.start) + s * delta, jnp.where(inside, ds / self.duration, 0.0) * delta
+
+
+@pytree("center", "semi_axes", "period", "phase", "angle", "rotation")
+@dataclass(frozen=True, eq=False)
+class Ellipse(Reference):
+    """Planar ellipse traversed at constant angular rate 2π/period (Bayle Fig. 5).
+
+    x = c_x + a cos φ(t), y = c_y + b sin φ(t), φ(t) = phase + 2π t / period, then rotated by ``rotation``
+    (rad) about the centre. A ``center`` with three values adds a constant third coordinate (z); ``angle``
+    (rad) adds a constant orientation component (e.g. the heading ξ3 of ``bayle_planar``'s full task).
+    """
+
+    center: tuple[float, ...]
+    semi_axes: tuple[float, float]
+    period: float
+    phase: float = 0.0
+    angle: float | None = None
+    rotation: float = 0.0
+
+    def __post_init__(self) -> None:
+        center = _vector(self.center, "center", "Ellipse")
+        if len(center) not in (2, 3):
+            raise ModelError(f"Ellipse: center needs 2 (x, y) or 3 (x, y, z) values, got {len(center)}")
+        object.__setattr__(self, "center", center)
+        axes = _vector(self.semi_axes, "semi_axes", "Ellipse", 2)
+        if min(axes) <= 0:
+            raise ModelError(f"Ellipse: semi_axes must be > 0 m, got {axes}")
+        object.__setattr__(self, "semi_axes", axes)
+        object.__setattr__(self, "period", np.float64(_positive(self.period, "period", "Ellipse")))
+        object.__setattr__(self, "phase", _vector(self.phase, "phase", "Ellipse", 1)[0])
+        object.__setattr__(self, "rotation", _vector(self.rotation, "rotation", "Ellipse", 1)[0])
+        if self.angle is not None:
+            object.__setattr__(self, "angle", _vector(self.angle, "angle", "Ellipse", 1)[0])
+
+    @property
+    def dim(self) -> int:
+        return len(self.center) + (self.angle is not None)
+
+    def _one(self, t):
+        rate = 2.0 * jnp.pi / self.period
+        phi = self.phase + rate * t
+        a, b = self.semi_axes
+        c, s = jnp.cos(self.rotation), jnp.sin(self.rotation)
+        rot = jnp.stack([jnp.stack([c, -s]), jnp.stack([s, c])])
+        xy = jnp.asarray(self.center[:2]) + rot @ jnp.stack([a * jnp.cos(phi), b * jnp.sin(phi)])
+        vxy = rot @ jnp.stack([-a * rate * jnp.sin(phi), b * rate * jnp.cos(phi)])
+        extra = jnp.concatenate([jnp.asarray(self.center)[2:], jnp.reshape(jnp.asarray(
+            [] if self.angle is None else self.angle, dtype=xy.dtype), (-1,))])
+        return jnp.concatenate([xy, extra]), jnp.concatenate([vxy, jnp.zeros_like(extra)])
+
+
+@pytree("points", "durations")
+@dataclass(frozen=True, eq=False)
+class Polyline(Reference):
+    """Through ``points`` (k × m), segment i lasting ``durations[i]``, each with the timing law.
+
+    With ``cubic`` or ``quintic`` timing the reference stops at every vertex (C¹ / C² everywhere);
+    ``linear`` timing has constant speed on each segment and a velocity jump at the vertices.
+    """
+
+    points: tuple[tuple[float, ...], ...]
+    durations: tuple[float, ...]
+    timing: str = "quintic"
+
+    def __post_init__(self) -> None:
+        pts = np.asarray(self.points, dtype=float)
+        if pts.ndim != 2 or pts.shape[0] < 2:
+            raise ModelError(f"Polyline: points must be a k × m array with k ≥ 2, got shape {pts.shape}")
+        if not np.all(np.isfinite(pts)):
+            raise ModelError("Polyline: points must be finite")
+        durations = _vector(self.durations, "durations", "Polyline", pts.shape[0] - 1)
+        for d in durations:
+            _positive(d, "durations", "Polyline")
+        _check_timing(self.timing, "Polyline")
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "durations", durations)
+
+    @property
+    def dim(self) -> int:
+        return len(self.points[0])
+
+    @property
+    def duration(self) -> float:
+        return float(np.sum(self.durations))
+
+    def _one(self, t):
+        pts = jnp.asarray(self.points)
+        ends = jnp.cumsum(jnp.asarray(self.durations))
+        starts = ends - jnp.asarray(self.durations)
+        i = jnp.clip(jnp.searchsorted(ends, t, side="left"), 0, len(self.durations) - 1)
+        d = jnp.asarray(self.durations)[i]
+        tau = jnp.clip((t - starts[i]) / d, 0.0, 1.0)
+        inside = (t >= 0.0) & (t <= ends[-1])
+        s, ds = timing_law(tau, self.timing)
+        delta = pts[i + 1] - pts[i]
+        return pts[i] + s * delta, jnp.where(inside, ds / d, 0.0) * delta
+
+
+@pytree()
+@dataclass(frozen=True, eq=False)
+class FunctionReference(Reference):
+    """A user function ξ*(t) of a scalar t written with ``jax.numpy``; ξ̇* by forward-mode autodiff."""
+
+    fn: Callable[[jnp.ndarray], jnp.ndarray]
+    size: int | None = None
+
+    def __post_init__(self) -> None:
+        if not callable(self.fn):
+            raise ModelError("FunctionReference: fn must be a callable of t")
+        if self.size is None:
+            out = jax.eval_shape(lambda t: jnp.atleast_1d(self.fn(t)), jnp.zeros(()))
+            object.__setattr__(self, "size", int(out.shape[0]))
+
+    @property
+    def dim(self) -> int:
+        return int(self.size)
+
+    def _one(self, t):
+        fn = lambda tt: jnp.atleast_1d(jnp.asarray(self.fn(tt), dtype=float))  # noqa: E731
+        return jax.jvp(fn, (t,), (jnp.ones_like(t),))
+
+
+@pytree("parts")
+@dataclass(frozen=True, eq=False)
+class Stack(Reference):
+    """References concatenated component-wise, e.g. Korayem's (x_e, y_e) line with a (α, β) line."""
+
+    parts: tuple[Reference, ...]
+
+    def __post_init__(self) -> None:
+        parts = tuple(self.parts)
+        if not parts or not all(isinstance(p, Reference) for p in parts):
+            raise ModelError("Stack: give one or more references")
+        object.__setattr__(self, "parts", parts)
+
+    @property
+    def dim(self) -> int:
+        return sum(p.dim for p in self.parts)
+
+    def _one(self, t):
+        outs = [p._one(t) for p in self.parts]
+        return jnp.concatenate([o[0] for o in outs]), jnp.concatenate([o[1] for o in outs])
+
+
+def stack(*parts: Reference) -> Stack:
+    """Concatenate references component-wise."""
+    return Stack(tuple(parts))
+
+
+__all__ = ["Ellipse", "FunctionReference", "Line", "Polyline", "Reference", "Stack", "TIMINGS", "stack", "timing_law"]

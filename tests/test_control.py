@@ -1,0 +1,373 @@
+"""mobman.control: references, criteria, laws, closed-loop simulation, metrics.
+
+The runs share one compiled simulation where possible (same robot, task, law structure, reference type and
+number of steps; gains and references are traced), which keeps the file fast.
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from mobman import InputError, ModelError, SingularConfigurationError, kinematics
+from mobman.control import criteria, laws, metrics, references, simulate
+from mobman.control.simulation import _step
+from mobman.model import robots
+from mobman.model.task import FunctionTask, MountPosition, PlanarAngle, Position, stack
+
+ROBOT = robots.bayle_planar()
+TASK = Position("xy")
+Q0 = np.array([0.0, 0.0, 0.0, 0.6, 1.2])
+DT, DURATION = 0.01, 2.0
+W5 = criteria.Manipulability("eccentricity", "system", power=2)
+
+
+def bayle(W=2.0, k=0.5, **options):
+    return laws.BaylePseudoInverse(W=W, k=k, criterion=W5, **options)
+
+
+def fd(fn, t, h=1e-6):
+    return (fn(t + h) - fn(t - h)) / (2 * h)
+
+
+# --- references ------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "ref",
+    [
+        references.Line((0.0, 1.0), (2.0, -1.0), 3.0, "linear"),
+        references.Line((0.0, 1.0, 0.5), (2.0, -1.0, 0.0), 3.0, "cubic"),
+        references.Line((0.0,), (2.0,), 3.0, "quintic"),
+        references.Ellipse((1.0, 0.5), (1.0, 0.4), 7.0, phase=0.3, rotation=0.4, angle=0.2),
+        references.Polyline([(0, 0), (1, 0), (1, 2)], (1.0, 2.0), "quintic"),
+        references.FunctionReference(lambda t: jnp.stack([jnp.sin(t), t**2])),
+        references.stack(references.Line((0.0,), (1.0,), 2.0), references.Ellipse((0, 0), (1, 2), 5.0)),
+    ],
+)
+def test_reference_derivative_matches_finite_differences(ref):
+    t = np.array([0.37, 1.1, 2.45])
+    xi, xi_dot = ref(t)
+    assert xi.shape == xi_dot.shape == (3, ref.dim)
+    assert np.allclose(xi_dot, fd(lambda tt: np.asarray(ref(tt)[0]), t), atol=1e-7)
+
+
+def test_line_timings():
+    line = references.Line((1.0, 0.0), (3.0, 2.0), 4.0)
+    _, v = line(np.linspace(0.0, 4.0, 9))
+    assert np.allclose(v, 0.5)  # constant speed
+    xi, v = line(np.array([-1.0, 5.0]))
+    assert np.allclose(xi, [[1, 0], [3, 2]]) and np.allclose(v, 0.0)  # holds outside [0, T]
+    for timing in ("cubic", "quintic"):
+        xi, v = map(np.asarray, references.Line((1.0,), (3.0,), 4.0, timing)(np.array([0.0, 2.0, 4.0])))
+        assert np.allclose(xi[:, 0], [1, 2, 3]) and np.allclose(v[[0, 2]], 0.0)
+    polyline = references.Polyline([(0, 0), (1, 0), (1, 2)], (1.0, 2.0))
+    xi, v = polyline(np.array([0.0, 1.0, 3.0]))
+    assert np.allclose(xi, [[0, 0], [1, 0], [1, 2]]) and np.allclose(v, 0.0)
+
+
+def test_ellipse_geometry():
+    ell = references.Ellipse((1.0, 2.0, 0.3), (2.0, 0.5), 8.0, rotation=np.pi / 2)
+    xi = np.asarray(ell(np.linspace(0.0, 8.0, 50))[0])
+    local = xi[:, :2] - [1.0, 2.0]
+    # rotated by 90°: x-extent is the minor axis, y-extent the major one
+    assert np.allclose((local[:, 1] / 2.0) ** 2 + (local[:, 0] / 0.5) ** 2, 1.0)
+    assert np.allclose(xi[:, 2], 0.3)
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        lambda: references.Line((0, 0), (1,), 1.0),
+        lambda: references.Line((0,), (1,), -1.0),
+        lambda: references.Line((0,), (1,), 1.0, "septic"),
+        lambda: references.Ellipse((0, 0), (1, -1), 1.0),
+        lambda: references.Polyline([(0, 0)], ()),
+    ],
+)
+def test_reference_errors(bad):
+    with pytest.raises(ModelError):
+        bad()
+
+
+# --- criteria --------------------------------------------------------------------------------------
+
+
+def test_cubic_transition_boundary_conditions():
+    alpha = criteria.CubicTransition(start=1.0, end=3.0, coordinate=1)
+    da = jax.grad(lambda s: alpha(jnp.array([0.0, s])))
+    assert float(alpha(np.array([9.0, 1.0]))) == pytest.approx(1.0)
+    assert float(alpha(np.array([9.0, 3.0]))) == pytest.approx(0.0)
+    assert float(da(1.0)) == pytest.approx(0.0, abs=1e-12)
+    assert float(da(3.0)) == pytest.approx(0.0, abs=1e-12)
+    s = np.linspace(0.0, 4.0, 41)
+    values = np.asarray(alpha(np.stack([0 * s, s], -1)))
+    assert np.all(np.diff(values) <= 1e-15) and values.min() >= 0 and values.max() <= 1
+    assert float(alpha(np.array([0.0, 2.0]))) == pytest.approx(0.5)  # cubic symmetric about the middle
+
+
+def test_criterion_gradients_match_finite_differences():
+    q = np.array([0.3, -0.2, 0.4, 0.7, 1.1])
+    blend = criteria.Blend(
+        criteria.Manipulability("eccentricity", "system"),
+        criteria.Manipulability("eccentricity", "arm"),
+        criteria.CubicTransition(0.0, 2.0),
+    )
+    xs = np.array([1.0, 0.0])
+    for crit in (criteria.Manipulability("yoshikawa", "arm"), blend):
+        grad = np.asarray(jax.jit(lambda qq: crit.gradient(ROBOT, qq, TASK, xs))(q))
+        values = jax.jit(jax.vmap(lambda qq: crit(ROBOT, qq, TASK, xs)))(q + 1e-6 * np.concatenate([np.eye(5), -np.eye(5)]))
+        assert np.allclose(grad, (values[:5] - values[5:]) / 2e-6, atol=1e-6)
+
+
+def test_manipulability_sign_convention_and_blend():
+    q = np.array([0.0, 0.0, 0.0, 0.7, 1.1])
+    from mobman import manipulability as mp
+
+    w = float(mp.measures(mp.arm_jacobian(ROBOT, q, TASK))["yoshikawa"])
+    assert float(criteria.Manipulability("yoshikawa", "arm")(ROBOT, q, TASK)) == pytest.approx(-w)
+    sys_p, arm_p = criteria.Manipulability(which="system"), criteria.Manipulability(which="arm")
+    blend = criteria.Blend(sys_p, arm_p, criteria.CubicTransition(0.0, 2.0))
+    for s, a in ((-1.0, 1.0), (1.0, 0.5), (3.0, 0.0)):
+        expected = a * sys_p(ROBOT, q, TASK) + (1 - a) * arm_p(ROBOT, q, TASK)
+        assert float(blend(ROBOT, q, TASK, np.array([s, 0.0]))) == pytest.approx(float(expected))
+
+
+def test_criterion_errors():
+    with pytest.raises(ModelError, match="measure"):
+        criteria.Manipulability("roundness")
+    with pytest.raises(ModelError, match="which"):
+        criteria.Manipulability(which="platform")
+    with pytest.raises(ModelError, match="start"):
+        criteria.CubicTransition(1.0, 1.0)
+
+
+# --- laws (one configuration) ------------------------------------------------------------------------
+
+
+def test_bayle_law_pointwise_properties():
+    q = jnp.array([0.2, 0.1, 0.3, 0.7, 1.1])
+    xs, xsd = jnp.array([1.3, 0.6]), jnp.array([0.1, -0.2])
+    law = bayle(W=np.array([2.0, 3.0]), k=0.7)
+    eta, info = jax.jit(lambda qq: law(ROBOT, TASK, qq, 0.0, xs, xsd))(q)
+    jbar = kinematics.reduced_jacobian(ROBOT, q, TASK)
+    e = xs - kinematics.forward(ROBOT, q, TASK)
+    assert np.allclose(jbar @ eta, xsd + np.array([2.0, 3.0]) * e, atol=1e-12)  # ė = −W e
+    # self-motion: η − J̄⁺(…) = −k Hᵀ∇P, and Ṗ = ∇ᵀP S η_self = −k ‖Hᵀ∇P‖² ≤ 0
+    pinv = np.linalg.pinv(np.asarray(jbar))
+    s = np.asarray(kinematics.S(ROBOT, q))
+    h = s @ (np.eye(4) - pinv @ jbar)
+    grad = np.asarray(W5.gradient(ROBOT, q, TASK))
+    assert np.allclose(eta - pinv @ (xsd + np.array([2.0, 3.0]) * e), -0.7 * h.T @ grad, atol=1e-12)
+    assert float(info["P"]) == pytest.approx(float(W5(ROBOT, q, TASK)))
+    # Nait-Chabane eq. 30 with W = k I and feedback K equals the Bayle law
+    nc = laws.NaitChabane(W=0.7, criterion=W5, feedback=np.array([2.0, 3.0]))
+    assert np.allclose(jax.jit(lambda qq: nc(ROBOT, TASK, qq, 0.0, xs, xsd)[0])(q), eta, atol=1e-12)
+
+
+def test_normalized_law_is_the_weighted_minimum_norm_solution():
+    q = jnp.array([0.2, 0.1, 0.3, 0.7, 1.1])
+    xsd = jnp.array([0.1, -0.2])
+    xs = kinematics.forward(ROBOT, q, TASK)
+    eta, _ = laws.BaylePseudoInverse(W=1.0, normalized=True)(ROBOT, TASK, q, 0.0, xs, xsd)
+    r = np.asarray(ROBOT.velocity_limits)
+    jbar = np.asarray(kinematics.reduced_jacobian(ROBOT, q, TASK))
+    assert np.allclose(jbar @ eta, xsd, atol=1e-12)
+    # minimum of ‖R⁻¹η‖ among the solutions: η/r² is in the row space of J̄
+    resid = (eta / r**2) - jbar.T @ np.linalg.lstsq(jbar.T, eta / r**2, rcond=None)[0]
+    assert np.allclose(resid, 0.0, atol=1e-12)
+
+
+def test_damping_and_saturation_are_reported():
+    q = jnp.array([0.0, 0.0, 0.0, 0.7, 1.1])
+    xs, xsd = jnp.array([5.0, 5.0]), jnp.array([3.0, 0.0])
+    eta, info = laws.BaylePseudoInverse(W=1.0)(ROBOT, TASK, q, 0.0, xs, xsd)
+    ratio = float(np.max(np.abs(eta) / np.asarray(ROBOT.velocity_limits)))
+    assert float(info["limit_ratio"]) == pytest.approx(ratio) and ratio > 1 and not info["saturated"]
+    sat, info = laws.BaylePseudoInverse(W=1.0, saturate=True)(ROBOT, TASK, q, 0.0, xs, xsd)
+    assert bool(info["saturated"]) and np.allclose(sat, eta / ratio)
+    # damping active when σ_min < ε: λ² = λ_max² (1 − (σ_min/ε)²)
+    damped, info = laws.BaylePseudoInverse(W=1.0, damping=0.3, damping_threshold=100.0)(ROBOT, TASK, q, 0.0, xs, xsd)
+    smin = np.linalg.svd(np.asarray(kinematics.reduced_jacobian(ROBOT, q, TASK)), compute_uv=False)[-1]
+    assert float(info["sigma_min"]) == pytest.approx(smin)
+    assert float(info["damping"]) == pytest.approx(0.09 * (1 - (smin / 100.0) ** 2)) and bool(info["damped"])
+    assert np.linalg.norm(damped) < np.linalg.norm(eta)
+
+
+def test_law_errors():
+    with pytest.raises(ModelError, match="W"):
+        laws.BaylePseudoInverse(W=-1.0)
+    with pytest.raises(ModelError, match="damping"):
+        laws.BaylePseudoInverse(W=1.0, damping=-0.1)
+    with pytest.raises(ModelError, match="velocity limits"):
+        laws.BaylePseudoInverse(W=1.0, normalized=True)(robots.tchon_car_rtr(), None, jnp.zeros(7), 0.0,
+                                                          jnp.zeros(3), jnp.zeros(3))
+    with pytest.raises(ModelError, match="extra"):
+        laws.AugmentedJacobian(extra=None)
+
+
+# --- integrators -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("integrator", ["lie", "rk4"])
+def test_integrators_have_order_four(integrator):
+    def control(q, t):
+        return jnp.array([1.0 + 0.5 * jnp.sin(q[3] + t), jnp.cos(2 * t) + 0.3 * q[0], jnp.sin(q[2]), q[1] - q[4]]), {}
+
+    step = jax.jit(lambda q, t, h: _step(ROBOT, integrator, control, q, t, h)[0])
+    q0 = jnp.array([0.1, 0.2, 0.3, 0.4, 0.5])
+    errors = []
+    for h in (0.2, 0.1):
+        fine = jax.lax.fori_loop(0, 64, lambda i, q: step(q, i * h / 64, h / 64), q0)
+        errors.append(float(jnp.linalg.norm(step(q0, 0.0, h) - fine)))
+    assert errors[0] / errors[1] > 25  # local error O(h⁵): ratio 32
+
+
+# --- closed-loop simulation ------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """Three runs in one batched call (gains differ): tracking, pure self-motion, tracking with k = 0."""
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    line = references.Line(xi0 + [0.3, -0.2], xi0 + [0.5, 0.1], DURATION)
+    batch = [bayle(W=np.array([2.0, 3.0]), k=0.5), bayle(W=np.array([1e-9, 1e-9]), k=2.0), bayle(W=2.0 * np.ones(2), k=0.0)]
+    track = simulate(ROBOT, TASK, batch, line, Q0, DURATION, DT, measures=("system_w5", "arm_w5"))
+    still = references.Line(xi0, xi0, DURATION)
+    rest = simulate(ROBOT, TASK, batch, still, Q0, DURATION, DT)
+    return track, rest
+
+
+def test_error_dynamics_decay_rate(runs):
+    track, _ = runs
+    for i, rates in ((0, (2.0, 3.0)), (2, (2.0, 2.0))):
+        for c, rate in enumerate(rates):
+            e = np.abs(track.error[i, :, c])
+            fit = np.polyfit(track.t[:150], np.log(e[:150]), 1)[0]
+            assert abs(-fit - rate) / rate < 0.01
+    assert track.error.shape == (3, 201, 2) and track.t[-1] == pytest.approx(DURATION)
+
+
+def test_self_motion_keeps_the_task_and_decreases_the_criterion(runs):
+    _, rest = runs
+    xi = rest.xi[1]
+    assert np.max(np.linalg.norm(np.diff(xi, axis=0), axis=-1)) <= 1e-9
+    p = rest.info["P"][1]
+    assert p[-1] < p[0] - 0.1  # the self-motion does something
+    assert np.all(np.diff(p) <= 1e-12)
+    # continuous time: Ṗ = ∇ᵀP S η ≤ 0 at every sample
+    grads = jax.vmap(lambda q: W5.gradient(ROBOT, q, TASK))(rest.q[1])
+    q_dot = np.einsum("nij,nj->ni", np.asarray(kinematics.S(ROBOT, rest.q[1])), rest.eta[1])
+    assert np.all(np.einsum("ni,ni->n", grads, q_dot) <= 1e-12)
+    # with k = 0 nothing moves
+    assert np.allclose(rest.q[2], Q0, atol=1e-12)
+
+
+def test_platform_never_slips(runs):
+    for result in runs:
+        q, eta, mid = result.q, result.eta, result.info["q_mid"]
+        q_dot = np.einsum("bnij,bnj->bni", np.asarray(kinematics.S(ROBOT, q)), eta)
+        theta = q[..., 2]
+        assert np.max(np.abs(q_dot[..., 0] * np.sin(theta) - q_dot[..., 1] * np.cos(theta))) <= 1e-12
+        # the discrete path: every step is two arcs q → q_mid → q_next, each chord along the mean heading
+        for a, b in ((q[:, :-1], mid[:, :-1]), (mid[:, :-1], q[:, 1:])):
+            heading = 0.5 * (a[..., 2] + b[..., 2])
+            d = b - a
+            assert np.max(np.abs(d[..., 0] * np.sin(heading) - d[..., 1] * np.cos(heading))) <= 1e-12
+
+
+def test_rk4_chords_slip_but_velocities_do_not():
+    law = laws.BaylePseudoInverse(W=2.0)
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    ref = references.Ellipse(xi0 - [0.5, 0.0], (0.5, 0.4), 4.0)
+    res = simulate(ROBOT, TASK, law, ref, Q0, DURATION, DT, integrator="rk4")
+    d, heading = np.diff(res.q, axis=0), 0.5 * (res.q[1:, 2] + res.q[:-1, 2])
+    slip = np.abs(d[:, 0] * np.sin(heading) - d[:, 1] * np.cos(heading))
+    assert slip.max() > 1e-11  # RK4 chords are not arcs
+    assert "q_mid" not in res.info
+
+
+def test_batched_runs_equal_single_runs(runs):
+    track, _ = runs
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    line = references.Line(xi0 + [0.3, -0.2], xi0 + [0.5, 0.1], DURATION)
+    single = simulate(ROBOT, TASK, bayle(W=np.array([2.0, 3.0]), k=0.5), line, Q0, DURATION, DT)
+    assert np.allclose(single.q, track.q[0], atol=1e-12)
+    q0s = np.stack([Q0, Q0 + [0.1, 0, 0.2, 0, 0.1]])
+    batch = simulate(ROBOT, TASK, bayle(W=np.array([2.0, 3.0]), k=0.5), line, q0s, DURATION, DT)
+    assert batch.q.shape == (2, 201, 5) and np.allclose(batch.q[0], single.q, atol=1e-12)
+    assert not np.allclose(batch.q[1], single.q)
+
+
+def test_measures_and_metrics(runs):
+    track, _ = runs
+    from mobman import manipulability as mp
+
+    w5 = mp.measures(mp.system_jacobian(ROBOT, track.q[0], TASK))["eccentricity"]
+    assert np.allclose(track.measures["system_w5"][0], w5)
+    m = metrics.summarize(track.run(0), ROBOT, transient=1.0)
+    err = np.linalg.norm(track.error[0], axis=-1)
+    assert m["max_error"] == pytest.approx(err[100:].max())
+    assert m["system_w5_min"] == pytest.approx(float(np.min(w5)))
+    assert m["platform_path_length"] == pytest.approx(np.sum(np.linalg.norm(np.diff(track.q[0, :, :2], axis=0), axis=1)))
+    assert m["control_effort"] == pytest.approx(np.sum(track.eta[0] ** 2) * DT)
+
+
+def test_graining_points():
+    v = np.array([0.0, 0.2, 0.1, 0.0005, -0.0005, 0.05, -0.1, -0.2, 0.0, 0.3])
+    assert metrics.graining_points(v, threshold=1e-3) == 2
+    assert metrics.graining_points(v, threshold=0.0) == 4
+    assert metrics.first_significant(-v, 1e-3) == pytest.approx(-0.2)
+    with pytest.raises(InputError):
+        metrics.graining_points(np.zeros((2, 2)))
+
+
+def test_augmented_jacobian_hits_end_points():
+    robot = robots.korayem_planar()
+    q0 = np.array([0.0, 0.0, 0.0, np.pi / 3, np.pi / 2])
+    task = Position("xy")
+    extra = stack(PlanarAngle(), FunctionTask(robots.elbow_angle, ("beta",)))
+    start = np.asarray(kinematics.forward(robot, q0, stack(task, extra)))
+    end = start + np.array([0.8, 0.5, 0.3, -0.4])
+    law = laws.AugmentedJacobian(extra=extra, feedback=5.0)
+    res = simulate(robot, task, law, references.Line(start, end, 1.5, "quintic"), q0, DURATION, DT)
+    assert np.allclose(res.xi[-1], end, atol=1e-8)
+    assert np.max(np.abs(res.error)) < 1e-6
+    # Korayem eq. 36: det [J_c; J_e; J_z] = l0 whatever the configuration
+    assert np.allclose(res.info["det"], 0.4, atol=1e-12)
+    with pytest.raises(ModelError, match="extra"):
+        simulate(robot, task, laws.AugmentedJacobian(extra=MountPosition("x")), references.Line((0,) * 3, (1,) * 3, 1.0),
+                 q0, 0.1, DT)
+
+
+def test_damping_near_a_singularity():
+    q0 = np.array([0.0, 0.0, 0.0, np.pi / 2, 0.0])  # stretched arm across the heading: rank J̄ = 1
+    xi0 = np.asarray(kinematics.forward(ROBOT, q0, TASK))
+    line = references.Line(xi0, xi0 + [0.3, 0.0], DURATION)
+    damped = bayle(W=np.array([2.0, 3.0]), k=0.5, damping=0.1, damping_threshold=0.05)
+    res = simulate(ROBOT, TASK, damped, line, q0, DURATION, DT)
+    assert res.damped[0] and np.all(np.isfinite(res.q))
+    assert np.max(np.linalg.norm(res.error, axis=-1)) < 0.02  # DLS: small, bounded error near the singularity
+
+
+def test_non_finite_runs_are_reported():
+    bad = references.FunctionReference(lambda t: jnp.stack([jnp.sqrt(0.02 - t), t]))  # ξ̇* infinite at t = 0.02
+    with pytest.raises(SingularConfigurationError, match="t = 0.02 s"):
+        simulate(ROBOT, TASK, laws.BaylePseudoInverse(W=2.0), bad, Q0, 0.05, DT, integrator="rk4")
+
+
+def test_simulate_input_errors():
+    law = laws.BaylePseudoInverse(W=1.0)
+    line = references.Line((0.0, 0.0), (1.0, 0.0), 1.0)
+    with pytest.raises(InputError, match="dt"):
+        simulate(ROBOT, TASK, law, line, Q0, 1.0, 0.0)
+    with pytest.raises(InputError, match="coordinates"):
+        simulate(ROBOT, TASK, law, line, Q0[:3], 1.0, 0.1)
+    with pytest.raises(ModelError, match="reference"):
+        simulate(ROBOT, TASK, law, references.Line((0.0,), (1.0,), 1.0), Q0, 1.0, 0.1)
+    with pytest.raises(InputError, match="measures"):
+        simulate(ROBOT, TASK, law, line, Q0, 0.02, 0.01, measures=("platform_w5",))
+    with pytest.raises(InputError, match="integrator"):
+        simulate(ROBOT, TASK, law, line, Q0, 1.0, 0.1, integrator="euler")
