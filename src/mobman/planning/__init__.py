@@ -1,0 +1,1 @@
+"""Endogenous-configuration motion planning (Tchoń, Jakubiak & Muszyński 2002)."""

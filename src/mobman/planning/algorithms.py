@@ -1,0 +1,278 @@
+"""Jacobian motion planning algorithms as a discretised continuation in θ (Tchoń et al. §3).
+
+Each algorithm follows a curve z(θ) in the endogenous configuration space along dz/dθ = γ·direction(z):
+
+- ``"pinv"``: −J#e with J# = Jᵀ(J Jᵀ)⁻¹ (eqs. 10, 15), plus (I − J#J) w for a null-space vector w (eq. 16,
+  sign corrected: see docs/planning.md);
+- ``"extended"``: −J^{e#} e, J^{e#} = first r columns of J^{E#} = J^{E}ᵀ(J^E J^{E}ᵀ)⁻¹, J^E = [J; J̄] the
+  Jacobian of the output extended with h(q, x) (eqs. 18–24);
+- ``"adjoint"``: −Jᵀ e, steepest descent of ½‖e‖² (eqs. 25–29).
+
+Here e = K(z) − y_d (eq. 17). The flow is discretised by z ← z + Δθ·γ·direction: fixed Δθ (Δθ·γ = 1 is
+Newton's step for the pseudo-inverses), or ``step="adaptive"``, a backtracking line search along the
+direction starting from the step that minimises the linearised error (Newton's step for the pseudo-inverses).
+All loops run inside ``jax.jit`` (``lax.while_loop``) with the error history in a fixed-size buffer.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from functools import partial
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mobman.errors import ConvergenceError, InputError
+from mobman.model.task import Task, stack
+from mobman.planning.endpoint import PlanningSetting, _endpoint_of, _variational
+
+ALGORITHMS = ("pinv", "extended", "adjoint")
+
+RUNNING, CONVERGED, MAX_ITERATIONS, SINGULAR, LINE_SEARCH_FAILED, NOT_FINITE = range(6)
+STATUS = ("running", "converged", "max_iterations", "singular", "line_search_failed", "not_finite")
+
+SINGULAR_RCOND = 1e-13
+"""A Gram matrix whose smallest/largest eigenvalue ratio is below this is treated as singular."""
+MAX_HALVINGS = 40
+ARMIJO = 1e-4
+
+
+@dataclass(frozen=True)
+class Options:
+    """Algorithm settings (hashable: a static argument of the compiled solver).
+
+    algorithm: one of ``ALGORITHMS``; step: Δθ > 0 or ``"adaptive"``; gamma: the rate γ > 0; tol: stop when
+    ‖K − y_d‖ ≤ tol; max_iterations: the cap (also the history buffer size); extension: the output extension
+    h(q, x) as a task (required by ``"extended"``); nullspace: w(z, q0) for the null-space term of eq. (16)
+    (``"pinv"`` only), e.g. :func:`dexterity_gradient`.
+    """
+
+    algorithm: str = "pinv"
+    step: float | str = 1.0
+    gamma: float = 1.0
+    tol: float = 1e-12
+    max_iterations: int = 100
+    extension: Task | None = None
+    nullspace: Callable | None = None
+
+    def __post_init__(self) -> None:
+        if self.algorithm not in ALGORITHMS:
+            raise InputError(f"algorithm must be one of {', '.join(ALGORITHMS)}, got {self.algorithm!r}")
+        if self.step != "adaptive" and not (isinstance(self.step, (int, float)) and 0 < self.step < np.inf):
+            raise InputError(f"step Δθ must be a number > 0 or 'adaptive', got {self.step!r}")
+        if not (isinstance(self.gamma, (int, float)) and 0 < self.gamma < np.inf):
+            raise InputError(f"gamma must be a number > 0, got {self.gamma!r}")
+        if not (isinstance(self.tol, (int, float)) and self.tol > 0):
+            raise InputError(f"tol must be a number > 0, got {self.tol!r}")
+        if not isinstance(self.max_iterations, int) or self.max_iterations < 0:
+            raise InputError(f"max_iterations must be an integer ≥ 0, got {self.max_iterations!r}")
+        if self.algorithm == "extended" and self.extension is None:
+            raise InputError("algorithm 'extended' needs an output extension h(q, x) (extension=...)")
+        if self.nullspace is not None and self.algorithm != "pinv":
+            raise InputError("a null-space vector (nullspace=...) is only used by algorithm 'pinv'")
+
+    @property
+    def static(self) -> "Options":
+        """The part that shapes the compiled loop (Δθ only through "adaptive" or not; γ, tol dropped)."""
+        return replace(self, step="adaptive" if self.step == "adaptive" else 1.0, gamma=1.0, tol=1.0)
+
+
+class Plan(NamedTuple):
+    """Outcome of one planning run (arrays; see :func:`plan` for the NumPy/dict view).
+
+    z: the final endogenous configuration; status: index into ``STATUS``; iterations: updates made;
+    errors, thetas: ‖e‖ and θ after each iteration (first ``iterations + 1`` entries valid, then NaN).
+    """
+
+    z: jnp.ndarray
+    status: jnp.ndarray
+    iterations: jnp.ndarray
+    errors: jnp.ndarray
+    thetas: jnp.ndarray
+
+
+def right_inverse(J: jnp.ndarray, rows: int | None = None) -> tuple[jnp.ndarray, jnp.ndarray]:
+    """J# = Jᵀ(J Jᵀ)⁻¹ restricted to its first ``rows`` columns, and the reciprocal condition of J Jᵀ.
+
+    With J = J^E (extended Jacobian) and rows = r this is the extended Jacobian pseudo-inverse (eq. 23).
+    """
+    gram = J @ J.T
+    w = jnp.linalg.eigvalsh(gram)
+    rcond = w[0] / jnp.maximum(w[-1], 1e-300)
+    inverse = J.T @ jnp.linalg.solve(gram, jnp.eye(J.shape[0]))
+    return (inverse if rows is None else inverse[:, :rows]), rcond
+
+
+def null_space_projector(J: jnp.ndarray) -> jnp.ndarray:
+    """P = I − J#J, the orthogonal projector onto Ker J (the paper's eq. 14 has the opposite sign)."""
+    inverse, _ = right_inverse(J)
+    return jnp.eye(J.shape[1]) - inverse @ J
+
+
+def _direction(setting: PlanningSetting, options: Options, z, q0, y_d):
+    """e = K(z) − y_d, the Jacobian J and the θ-flow direction at z (for γ = 1), and the reciprocal condition
+    of the Gram matrix inverted. K is integrated with ``setting.steps``, J with ``setting.jacobian_steps``."""
+    coarse = setting.jacobian_setting
+    if options.algorithm == "extended":
+        task = stack(setting.output, options.extension)
+        J_E = _variational(coarse, task, z, q0, False).J
+        r = setting.output.dim
+        e, J = _endpoint_of(setting, setting.output, z, q0) - y_d, J_E[:r]
+        inverse, rcond = right_inverse(J_E, r)
+        return e, J, -inverse @ e, rcond
+    J = _variational(coarse, setting.output, z, q0, False).J
+    e = _endpoint_of(setting, setting.output, z, q0) - y_d
+    if options.algorithm == "adjoint":
+        return e, J, -J.T @ e, jnp.ones(())
+    inverse, rcond = right_inverse(J)
+    d = -inverse @ e
+    if options.nullspace is not None:
+        d = d + (jnp.eye(z.shape[0]) - inverse @ J) @ options.nullspace(z, q0)
+    return e, J, d, rcond
+
+
+def _line_search(setting, z, q0, y_d, e, J, d):
+    """Backtracking on ½‖e‖² (Armijo) from α0 = argmin_α ‖e + α J d‖ (= 1 for the pseudo-inverses)."""
+    slope = e @ (J @ d)
+    alpha0 = -slope / jnp.maximum((J @ d) @ (J @ d), 1e-300)
+    v0 = 0.5 * e @ e
+
+    def value(alpha):
+        e_new = _endpoint_of(setting, setting.output, z + alpha * d, q0) - y_d
+        return 0.5 * e_new @ e_new
+
+    def cond(state):
+        alpha, v, k = state
+        return (~(v <= v0 + ARMIJO * alpha * slope)) & (k < MAX_HALVINGS)
+
+    def body(state):
+        alpha, _, k = state
+        return alpha / 2, value(alpha / 2), k + 1
+
+    alpha, v, _ = jax.lax.while_loop(cond, body, (alpha0, value(alpha0), 0))
+    return alpha, v <= v0 + ARMIJO * alpha * slope
+
+
+@partial(jax.jit, static_argnums=(0, 1))
+def _solve(setting: PlanningSetting, options: Options, z0, q0, y_d, step, gamma, tol) -> Plan:
+    """The compiled loop; ``options`` only contributes its static part (see :meth:`Options.static`)."""
+    size = options.max_iterations + 1
+    nan = jnp.full(size, jnp.nan)
+
+    def cond(state):
+        return state[1] == RUNNING
+
+    def body(state):
+        z, _, k, errors, thetas = state
+        e, J, d, rcond = _direction(setting, options, z, q0, y_d)
+        err = jnp.linalg.norm(e)
+        errors = errors.at[k].set(err)
+        converged = err <= tol
+        if options.step == "adaptive":
+            alpha, ok = jax.lax.cond(converged, lambda: (jnp.zeros(()), jnp.asarray(True)),
+                                     lambda: _line_search(setting, z, q0, y_d, e, J, d))
+            dtheta = alpha / gamma
+        else:
+            dtheta, ok = step, jnp.asarray(True)
+        status = jnp.select(
+            [~jnp.isfinite(err), converged, k >= options.max_iterations,
+             (rcond < SINGULAR_RCOND) | ~jnp.all(jnp.isfinite(d)), ~ok],
+            [NOT_FINITE, CONVERGED, MAX_ITERATIONS, SINGULAR, LINE_SEARCH_FAILED],
+            RUNNING,
+        )
+        running = status == RUNNING
+        z = jnp.where(running, z + dtheta * gamma * d, z)
+        thetas = thetas.at[k + 1].set(jnp.where(running, thetas[k] + dtheta, jnp.nan))
+        return z, status, k + running.astype(k.dtype), errors, thetas
+
+    start = (z0, jnp.asarray(RUNNING), jnp.asarray(0), nan, nan.at[0].set(0.0))
+    z, status, k, errors, thetas = jax.lax.while_loop(cond, body, start)
+    return Plan(z, status, k, errors, thetas)
+
+
+def solve(setting: PlanningSetting, options: Options, z0, q0, y_d) -> Plan:
+    """Run one algorithm from z0 (the compiled kernel behind :func:`plan`; arrays in, :class:`Plan` out).
+
+    Δθ, γ and the tolerance are traced arguments: changing them does not recompile.
+    """
+    step = 0.0 if options.step == "adaptive" else float(options.step)
+    return _solve(setting, options.static, jnp.asarray(z0, float), jnp.asarray(q0, float),
+                  jnp.asarray(y_d, float), step, float(options.gamma), float(options.tol))
+
+
+@dataclass
+class PlanResult:
+    """A planning run in NumPy: final z = (λ, x), status, iterations, error and θ histories."""
+
+    z: np.ndarray
+    lam: np.ndarray
+    x: np.ndarray
+    status: str
+    iterations: int
+    errors: np.ndarray
+    thetas: np.ndarray
+
+    @property
+    def converged(self) -> bool:
+        return self.status == "converged"
+
+    @property
+    def final_error(self) -> float:
+        return float(self.errors[-1])
+
+
+def to_result(setting: PlanningSetting, result: Plan) -> PlanResult:
+    """NumPy view of one :class:`Plan` (histories cut to the iterations made)."""
+    k = int(result.iterations)
+    z = np.asarray(result.z)
+    lam, x = setting.split(z)
+    return PlanResult(z, np.asarray(lam).reshape(-1), np.asarray(x), STATUS[int(result.status)], k,
+                      np.asarray(result.errors)[: k + 1], np.asarray(result.thetas)[: k + 1])
+
+
+def plan(setting: PlanningSetting, z0, q0, y_d, options: Options = Options(),
+         raise_on_failure: bool = False) -> PlanResult:
+    """Solve K_{q0,T}(z) = y_d (eq. 4) from z0; non-convergence is a result (status) unless raise_on_failure.
+
+    >>> from mobman.model.robots import tchon_car_rtr
+    >>> setting = PlanningSetting(tchon_car_rtr())
+    >>> z0 = [0.01, 0, 0, 0, 0, -0.01, 0, 0, 0, 0, 0, 2, 0.785]
+    >>> plan(setting, z0, [5, 0, 0, 0.52], [0, 0, 1]).converged
+    True
+    """
+    z0 = np.asarray(z0, float)
+    q0 = np.asarray(q0, float)
+    y_d = np.asarray(y_d, float)
+    _check_sizes(setting, z0, q0, y_d)
+    result = to_result(setting, solve(setting, options, z0, q0, y_d))
+    if raise_on_failure and not result.converged:
+        raise ConvergenceError(
+            f"{options.algorithm} did not reach ‖e‖ ≤ {options.tol:g}: status {result.status} after "
+            f"{result.iterations} iterations, ‖e‖ = {result.final_error:.3e}", history=result)
+    return result
+
+
+def _check_sizes(setting: PlanningSetting, z0, q0, y_d) -> None:
+    checks = (("z0 (endogenous configuration)", z0, setting.n_z),
+              ("q0 (platform start)", q0, setting.robot.platform.n_q),
+              ("y_d (target)", y_d, setting.output.dim))
+    for name, value, size in checks:
+        if value.shape[-1:] != (size,):
+            raise InputError(f"{name}: expected {size} values, got {value.shape[-1] if value.ndim else 1}")
+        if not np.all(np.isfinite(value)):
+            raise InputError(f"{name}: values must be finite")
+
+
+def dexterity_gradient(setting: PlanningSetting, gain: float = 1.0) -> Callable:
+    """w(z, q0) = gain·∇_z det(J Jᵀ): a null-space vector that increases the (parametric) dexterity² (eq. 16)."""
+
+    def w(z, q0):
+        def d2(zz):
+            J = _variational(setting.jacobian_setting, setting.output, zz, q0, False).J
+            return jnp.linalg.det(J @ J.T)
+
+        return gain * jax.grad(d2)(z)
+
+    return w

@@ -1,0 +1,62 @@
+"""Many planning problems at once: ``jax.vmap`` of the compiled planner over starts, targets and initial z."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import partial
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mobman.planning.algorithms import STATUS, Options, PlanResult, _check_sizes, _solve
+from mobman.planning.endpoint import PlanningSetting
+
+
+@dataclass
+class BatchResult:
+    """Outcome of a batch: per problem the final z, status names, iterations and final errors."""
+
+    z: np.ndarray
+    status: list[str]
+    iterations: np.ndarray
+    final_errors: np.ndarray
+    errors: np.ndarray
+
+    @property
+    def converged(self) -> np.ndarray:
+        return np.array([s == "converged" for s in self.status])
+
+    @property
+    def success_rate(self) -> float:
+        """Fraction of problems solved to the tolerance."""
+        return float(np.mean(self.converged)) if self.status else 0.0
+
+    def run(self, setting: PlanningSetting, index: int) -> PlanResult:
+        """One problem of the batch as a :class:`PlanResult`."""
+        k = int(self.iterations[index])
+        lam, x = setting.split(self.z[index])
+        return PlanResult(self.z[index], np.asarray(lam).reshape(-1), np.asarray(x), self.status[index], k,
+                          self.errors[index, : k + 1], np.full(k + 1, np.nan))
+
+
+@partial(jax.jit, static_argnums=(0, 1))
+def _solve_batch(setting, static, z0, q0, y_d, step, gamma, tol):
+    return jax.vmap(lambda z, q, y: _solve(setting, static, z, q, y, step, gamma, tol))(z0, q0, y_d)
+
+
+def plan_batch(setting: PlanningSetting, z0, q0, y_d, options: Options = Options()) -> BatchResult:
+    """Solve K_{q0,T}(z) = y_d for a batch: z0 (B, n_z), q0 (B, n_p), y_d (B, r), or any of them unbatched
+    (broadcast). One compiled, vectorised call; the loop runs until every problem has stopped."""
+    z0, q0, y_d = (np.asarray(a, float) for a in (z0, q0, y_d))
+    _check_sizes(setting, z0, q0, y_d)
+    size = max(a.shape[0] if a.ndim == 2 else 1 for a in (z0, q0, y_d))
+    z0, q0, y_d = (np.broadcast_to(a, (size, a.shape[-1])) for a in (z0, q0, y_d))
+    step = 0.0 if options.step == "adaptive" else float(options.step)
+    out = _solve_batch(setting, options.static, jnp.asarray(z0), jnp.asarray(q0), jnp.asarray(y_d),
+                       step, float(options.gamma), float(options.tol))
+    iterations = np.asarray(out.iterations)
+    errors = np.asarray(out.errors)
+    final = errors[np.arange(size), iterations]
+    return BatchResult(np.asarray(out.z), [STATUS[int(s)] for s in np.asarray(out.status)], iterations, final,
+                       errors)

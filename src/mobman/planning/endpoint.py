@@ -1,0 +1,272 @@
+"""Endpoint map K_{q0,T}(λ, x), its analytic Jacobian and the dexterity of an endogenous configuration.
+
+The platform coordinates q_p are the state of the driftless system q̇_p = S_p(q_p) u(t) (Tchoń et al. eq. 1),
+u(t) = Λ φ(t) with the coefficients Λ (m × N, row i = control u_i) of a :class:`~mobman.planning.basis.Basis`;
+the arm coordinates x stay constant over [0, T]. The output is the robot's task at q = [q_p(T), x], so
+``K = kinematics.forward(robot, [q_p(T), x])`` (eq. 3). An endogenous configuration is the flat vector
+z = (vec Λ, x) ∈ R^{m·N + p}: u1's N coefficients, then u2's, …, then the joint positions.
+
+Integration is fixed-step RK4 in a ``lax.scan``. The Jacobian is computed two ways:
+
+- :func:`variational` integrates, together with q_p, the variational system (eqs. 5–7) driven by the basis
+  functions: Ξ̇ = A(t) Ξ + B(t) (I_m ⊗ φ(t)ᵀ), Ξ(0) = 0, with A = ∂(S_p(q_p) u)/∂q_p and B = S_p(q_p), so that
+  Ξ(T) = ∫ Φ(T, s) B(s) (I_m ⊗ φ(s)ᵀ) ds and J = [C Ξ(T), D] (eq. 8 restricted to the span of the basis);
+  optionally also the mobility matrix 𝓜 = ∫ Φ(T, s) B Bᵀ Φᵀ(T, s) ds through the Lyapunov equation
+  𝓜̇ = A𝓜 + 𝓜Aᵀ + BBᵀ, 𝓜(0) = 0;
+- :func:`endpoint_jacobian` with ``method="autodiff"`` differentiates the integrator itself (``jax.jacfwd``).
+
+Because Runge–Kutta methods commute with linearisation, both give the derivative of the *same* discrete map
+and agree to rounding error.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import partial
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from mobman.errors import InputError
+from mobman.model.robot import MobileManipulator
+from mobman.model.task import Task
+from mobman.planning.basis import Basis, Fourier
+
+DEFAULT_STEPS = 8000
+"""RK4 steps over [0, T] for the endpoint map (discretisation error ≈ 1e-13 at the §4 solutions, see
+docs/planning.md for the convergence study behind this value)."""
+DEFAULT_JACOBIAN_STEPS = 400
+"""RK4 steps of the variational system inside the planners (relative Jacobian error ≈ 1e-9: an inexact
+Newton step whose contraction factor is that small, so the planners still converge to 1e-12)."""
+
+
+@dataclass(frozen=True)
+class PlanningSetting:
+    """What stays fixed while planning: the robot, its task, the control basis, the horizon T, the RK4 steps.
+
+    Hashable, so the compiled functions take it as a static argument; the start q_p(0) is a dynamic argument
+    (a batch of starts is one call). ``steps`` discretises the endpoint map K (what the planners drive to the
+    tolerance); ``jacobian_steps`` the variational system the planners use for their directions.
+    """
+
+    robot: MobileManipulator
+    basis: Basis = field(default_factory=Fourier)
+    horizon: float = 1.0
+    steps: int = DEFAULT_STEPS
+    task: Task | None = None
+    jacobian_steps: int = DEFAULT_JACOBIAN_STEPS
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.horizon, (int, float)) and np.isfinite(self.horizon) and self.horizon > 0):
+            raise InputError(f"horizon T must be a finite number > 0, got {self.horizon!r}")
+        for name in ("steps", "jacobian_steps"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or value < 1 or value % self.basis.pieces:
+                raise InputError(
+                    f"{name} must be a positive integer multiple of the basis' {self.basis.pieces} pieces, "
+                    f"got {value!r}"
+                )
+        object.__setattr__(self, "horizon", float(self.horizon))
+        if self.task is not None:
+            self.task.check(self.robot)
+
+    @property
+    def output(self) -> Task:
+        """The task whose value at q(T) is the endpoint (the robot's own task by default)."""
+        return self.robot.task if self.task is None else self.task
+
+    @property
+    def n_controls(self) -> int:
+        """m, number of platform controls."""
+        return self.robot.platform.n_eta
+
+    @property
+    def n_joints(self) -> int:
+        """p, number of arm joint positions x."""
+        return self.robot.n_q - self.robot.platform.n_q
+
+    @property
+    def n_z(self) -> int:
+        """Dimension of the endogenous configuration z = (vec Λ, x)."""
+        return self.n_controls * self.basis.size + self.n_joints
+
+    def split(self, z: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
+        """z → (Λ of shape (m, N), x)."""
+        n = self.n_controls * self.basis.size
+        return z[:n].reshape(self.n_controls, self.basis.size), z[n:]
+
+    def with_task(self, task: Task | None) -> "PlanningSetting":
+        return replace(self, task=task)
+
+    @property
+    def jacobian_setting(self) -> "PlanningSetting":
+        """The same setting integrated with ``jacobian_steps`` (what the planners differentiate)."""
+        return replace(self, steps=self.jacobian_steps)
+
+
+class Variational(NamedTuple):
+    """Endpoint y = K(z), Jacobian J (r × n_z), C = ∂k/∂q_p, D = ∂k/∂x at q(T), Ξ(T), mobility 𝓜 (or None)."""
+
+    y: jnp.ndarray
+    J: jnp.ndarray
+    C: jnp.ndarray
+    D: jnp.ndarray
+    Xi: jnp.ndarray
+    mobility: jnp.ndarray | None
+
+
+def _output(setting: PlanningSetting, task: Task, q_p: jnp.ndarray, x: jnp.ndarray) -> jnp.ndarray:
+    q = jnp.concatenate([q_p, x])
+    return task.value(setting.robot, q, setting.robot.frames(q))
+
+
+def _basis_grid(setting: PlanningSetting) -> jnp.ndarray:
+    """φ at the start, middle and end of every RK4 step, shape (steps, 3, N), each step with its own control
+    (so a piecewise-constant basis switches exactly at step boundaries)."""
+    h = setting.horizon / setting.steps
+    t = h * np.arange(setting.steps)
+    mid = t + 0.5 * h
+    stages = jnp.stack([jnp.asarray(t), jnp.asarray(mid), jnp.asarray(t + h)], axis=1)
+    return jax.vmap(lambda st, w: jax.vmap(lambda s: setting.basis.values(s, setting.horizon, w))(st))(
+        stages, jnp.asarray(mid))
+
+
+def _rk4(setting: PlanningSetting, rhs, state, record: bool = False):
+    """Fixed-step RK4 of d state/dt = rhs(state, φ) over [0, T], φ the basis values at the stage time.
+
+    Returns the final state, and the states after every step if ``record``.
+    """
+    h = setting.horizon / setting.steps
+
+    def step(s, phi):
+        k1 = rhs(s, phi[0])
+        k2 = rhs(jax.tree.map(lambda a, b: a + 0.5 * h * b, s, k1), phi[1])
+        k3 = rhs(jax.tree.map(lambda a, b: a + 0.5 * h * b, s, k2), phi[1])
+        k4 = rhs(jax.tree.map(lambda a, b: a + h * b, s, k3), phi[2])
+        new = jax.tree.map(lambda a, b1, b2, b3, b4: a + h / 6 * (b1 + 2 * b2 + 2 * b3 + b4), s, k1, k2, k3, k4)
+        return new, (new if record else None)
+
+    return jax.lax.scan(step, state, _basis_grid(setting), unroll=2)
+
+
+def _endpoint_of(setting: PlanningSetting, task: Task, z, q0) -> jnp.ndarray:
+    lam, x = setting.split(z)
+    q_T, _ = _rk4(setting, lambda q, phi: setting.robot.platform.S(q) @ (lam @ phi), q0)
+    return _output(setting, task, q_T, x)
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _endpoint(setting, z, q0):
+    return _endpoint_of(setting, setting.output, z, q0)
+
+
+def endpoint(setting: PlanningSetting, z, q0) -> jnp.ndarray:
+    """K_{q0,T}(z) = k(q_p(T), x) (eq. 3), shape (..., r) for z of shape (..., n_z) and q0 (..., n_p)."""
+    return _batch(_endpoint, setting, z, q0, "(r)")
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _trajectory(setting, z, q0):
+    lam, x = setting.split(z)
+    _, states = _rk4(setting, lambda q, phi: setting.robot.platform.S(q) @ (lam @ phi), q0, record=True)
+    q_p = jnp.concatenate([q0[None], states])
+    y = jax.vmap(lambda q: _output(setting, setting.output, q, x))(q_p)
+    return q_p, y
+
+
+def trajectory(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Times t_k, platform states q_p(t_k) and task values k(q_p(t_k), x) at the RK4 grid (for plotting)."""
+    q_p, y = _trajectory(setting, jnp.asarray(z, float), jnp.asarray(q0, float))
+    return np.linspace(0.0, setting.horizon, setting.steps + 1), np.asarray(q_p), np.asarray(y)
+
+
+def _variational(setting: PlanningSetting, task: Task, z, q0, with_mobility: bool) -> Variational:
+    lam, x = setting.split(z)
+    m, n_p = setting.n_controls, q0.shape[0]
+    platform = setting.robot.platform
+
+    def rhs(state, phi):
+        q, xi, mob = state
+        u = lam @ phi
+        A = jax.jacfwd(lambda s: platform.S(s) @ u)(q)
+        B = platform.S(q)
+        d_xi = A @ xi + B @ jnp.kron(jnp.eye(m), phi[None, :])
+        d_mob = A @ mob + mob @ A.T + B @ B.T if with_mobility else mob
+        return platform.S(q) @ u, d_xi, d_mob
+
+    start = (q0, jnp.zeros((n_p, z.shape[0] - setting.n_joints)), jnp.zeros((n_p, n_p)))
+    (q_T, xi, mob), _ = _rk4(setting, rhs, start)
+    y = _output(setting, task, q_T, x)
+    C = jax.jacfwd(lambda q: _output(setting, task, q, x))(q_T)
+    D = jax.jacfwd(lambda xx: _output(setting, task, q_T, xx))(x)
+    return Variational(y, jnp.concatenate([C @ xi, D], axis=1), C, D, xi, mob if with_mobility else None)
+
+
+@partial(jax.jit, static_argnums=(0, 3))
+def _variational_jit(setting, z, q0, with_mobility):
+    return _variational(setting, setting.output, z, q0, with_mobility)
+
+
+def variational(setting: PlanningSetting, z, q0, with_mobility: bool = True) -> Variational:
+    """Endpoint, Jacobian (eqs. 5–8) and, if asked, the mobility matrix 𝓜 from the variational system."""
+    return _variational_jit(setting, jnp.asarray(z, float), jnp.asarray(q0, float), with_mobility)
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _autodiff_jacobian(setting, z, q0):
+    return jax.jacfwd(_endpoint, argnums=1)(setting, z, q0)
+
+
+def endpoint_jacobian(setting: PlanningSetting, z, q0, method: str = "variational") -> jnp.ndarray:
+    """Analytic Jacobian J_{q0,T}(z), shape (r, n_z): ``"variational"`` (eqs. 5–8) or ``"autodiff"``."""
+    z, q0 = jnp.asarray(z, float), jnp.asarray(q0, float)
+    if method == "variational":
+        return _variational_jit(setting, z, q0, False).J
+    if method == "autodiff":
+        return _autodiff_jacobian(setting, z, q0)
+    raise InputError(f"method must be 'variational' or 'autodiff', got {method!r}")
+
+
+def mobility_matrix(setting: PlanningSetting, z, q0) -> jnp.ndarray:
+    """Mobility matrix 𝓜_{q0,T}(u) of the platform: the state reachability Gramian over all of L²[0, T]."""
+    return variational(setting, z, q0).mobility
+
+
+@partial(jax.jit, static_argnums=(0, 3))
+def _dexterity_matrix(setting, z, q0, parametric):
+    v = _variational(setting, setting.output, z, q0, not parametric)
+    return v.J @ v.J.T if parametric else v.C @ v.mobility @ v.C.T + v.D @ v.D.T
+
+
+def dexterity_matrix(setting: PlanningSetting, z, q0, parametric: bool = False) -> jnp.ndarray:
+    """Dexterity matrix, shape (..., r, r) for batches of z and q0.
+
+    parametric=False: the paper's 𝒟 = C𝓜Cᵀ + DDᵀ (eq. 11), controls ranging over all of L²[0, T];
+    parametric=True: J Jᵀ of the finite parametrisation (the Gram matrix the planners invert). Since the
+    basis is orthonormal, C Ξ Ξᵀ Cᵀ is 𝒟's first term with 𝓜 replaced by its compression to the span of the
+    basis, so J Jᵀ ≼ 𝒟 (Bessel's inequality), with equality only if the basis spans every relevant control.
+    """
+    return _batch(lambda s, zz, qq: _dexterity_matrix(s, zz, qq, parametric), setting, z, q0, "(r,r)")
+
+
+def dexterity(setting: PlanningSetting, z, q0, parametric: bool = False) -> np.ndarray:
+    """Dexterity d = √det 𝒟 (eq. 12) (parametric=True: √det(J Jᵀ)); positive iff the configuration is regular.
+
+    A float for one configuration, an array for a batch.
+    """
+    det = np.linalg.det(np.asarray(dexterity_matrix(setting, z, q0, parametric)))
+    d = np.sqrt(np.maximum(det, 0.0))
+    return float(d) if d.ndim == 0 else d
+
+
+def is_regular(setting: PlanningSetting, z, q0, rtol: float = 1e-10) -> bool:
+    """Whether J is surjective: the smallest eigenvalue of 𝒟 exceeds rtol times the largest."""
+    w = np.linalg.eigvalsh(np.asarray(dexterity_matrix(setting, z, q0)))
+    return bool(w[0] > rtol * max(w[-1], 1e-300))
+
+
+def _batch(fn, setting, z, q0, core_out):
+    z, q0 = jnp.asarray(z, float), jnp.asarray(q0, float)
+    return jnp.vectorize(partial(fn, setting), signature=f"(z),(n)->{core_out}")(z, q0)

@@ -1,0 +1,45 @@
+"""``mobman plan``: output, figures and one-line errors with exit status 2."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from mobman.cli import main
+
+
+def _run(args, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(args)
+    return info.value.code, capsys.readouterr()
+
+
+def test_plan_json_reaches_tolerance_and_writes_figures(tmp_path, capsys):
+    main(["plan", "tchon-car-rtr", "--target", "0,0,1", "--start", "5,0,0,pi/6", "--x", "0,2,pi/4",
+          "--json", "--out", str(tmp_path)])
+    report = json.loads(capsys.readouterr().out)
+    assert report["converged"] and report["final_error"] <= 1e-12
+    assert report["iterations"] == len(report["error_history"]) - 1
+    assert report["dexterity_start"] > 0 and report["dexterity_end"] > 0
+    assert len(report["lambda"]) == 10 and len(report["x"]) == 3
+    for name in ("paths.png", "convergence.png"):
+        assert (tmp_path / name).stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--target", "0,0,1", "--algorithm", "newton"], "--algorithm"),
+        (["--target", "0,0"], "--target"),
+        (["--target", "0,0,1", "--horizon", "0"], "--horizon"),
+        (["--target", "0,0,1", "--horizon", "-2"], "--horizon"),
+        (["--target", "0,0,1", "--start", "1,2"], "--start"),
+        (["--target", "0,0,1", "--step", "fast"], "--step"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(args, message, capsys):
+    code, captured = _run(["plan", "tchon-car-rtr", *args], capsys)
+    assert code == 2
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error:") and message in lines[0]
