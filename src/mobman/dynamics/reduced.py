@@ -1,0 +1,182 @@
+"""Reduced (constraint-free) equations of motion in the quasi-velocities η, q̇ = S(q) η (Yamamoto eq. 10–16).
+
+Substituting q̇ = S η, q̈ = S η̇ + Ṡ η into M q̈ + c + g = E τ + Gᵀ λ and multiplying by Sᵀ (Sᵀ Gᵀ = 0)
+removes the constraint forces:
+
+    P(q) η̇ + b(q, η) = B(q) τ,   P = Sᵀ M S,   b = Sᵀ M Ṡ η + Sᵀ (c + g),   B = Sᵀ E      (eq. 15–16)
+
+(Yamamoto's P ẋ = ξ + Q τ with ξ = −b, Q = B). B is square and invertible: one actuator per quasi-velocity.
+
+- :func:`reduced_mass_matrix`, :func:`reduced_bias`, :func:`input_matrix`
+- :func:`inverse_dynamics` τ = B⁻¹ (P η̇ + b) along a trajectory (batched over time)
+- :func:`forward_dynamics` η̇ = P⁻¹ (B τ − b)
+- :func:`constraint_forces` λ of the full equations for a reduced solution, and the residual that must vanish
+- :func:`energy` ½ ηᵀ P η + V
+"""
+
+from __future__ import annotations
+
+from functools import partial
+
+import jax
+import jax.numpy as jnp
+
+from mobman.dynamics import equations as eq
+from mobman.dynamics.inertia import DynamicModel
+from mobman.errors import InputError
+
+
+def s_dot_eta(model: DynamicModel, q: jnp.ndarray, eta: jnp.ndarray) -> jnp.ndarray:
+    """Ṡ η with Ṡ = ∂S/∂q · S η (forward-mode autodiff)."""
+    robot = model.robot
+    _, s_dot = jax.jvp(robot.S, (q,), (robot.S(q) @ eta,))
+    return s_dot @ eta
+
+
+def reduced_mass_matrix_one(model: DynamicModel, q, payload_mass: float | None = None) -> jnp.ndarray:
+    s = model.robot.S(q)
+    return s.T @ eq.mass_matrix_one(model, q, payload_mass) @ s
+
+
+def reduced_bias_one(model: DynamicModel, q, eta, payload_mass: float | None = None) -> jnp.ndarray:
+    s = model.robot.S(q)
+    m = eq.mass_matrix_one(model, q, payload_mass)
+    return s.T @ (m @ s_dot_eta(model, q, eta) + eq.bias_one(model, q, s @ eta, payload_mass))
+
+
+def input_matrix_one(model: DynamicModel, q) -> jnp.ndarray:
+    return model.robot.S(q).T @ eq.actuation_matrix_one(model, q)
+
+
+def inverse_dynamics_one(model: DynamicModel, q, eta, eta_dot, payload_mass: float | None = None) -> jnp.ndarray:
+    lhs = reduced_mass_matrix_one(model, q, payload_mass) @ eta_dot + reduced_bias_one(model, q, eta, payload_mass)
+    return jnp.linalg.solve(input_matrix_one(model, q), lhs)
+
+
+def forward_dynamics_one(model: DynamicModel, q, eta, tau) -> jnp.ndarray:
+    rhs = input_matrix_one(model, q) @ tau - reduced_bias_one(model, q, eta)
+    return jnp.linalg.solve(reduced_mass_matrix_one(model, q), rhs)
+
+
+def energy_one(model: DynamicModel, q, eta) -> jnp.ndarray:
+    return 0.5 * eta @ reduced_mass_matrix_one(model, q) @ eta + eq.potential_energy_one(model, q)
+
+
+def constraint_forces_one(model: DynamicModel, q, eta, eta_dot, tau):
+    """λ minimising |M q̈ + c + g − E τ − Gᵀ λ| and the residual left (zero when the reduced equations hold)."""
+    robot = model.robot
+    s = robot.S(q)
+    q_ddot = s @ eta_dot + s_dot_eta(model, q, eta)
+    lhs = eq.mass_matrix_one(model, q) @ q_ddot + eq.bias_one(model, q, s @ eta) - eq.actuation_matrix_one(model, q) @ tau
+    g_t = robot.constraints(q).T
+    lam = jnp.linalg.lstsq(g_t, lhs)[0] if g_t.shape[1] else jnp.zeros(0, q.dtype)
+    return lam, lhs - g_t @ lam
+
+
+# --- batched public API ---------------------------------------------------------------------------
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _reduced_mass(model, q):
+    return jnp.vectorize(partial(reduced_mass_matrix_one, model), signature="(n)->(k,k)")(q)
+
+
+def reduced_terms_one(model: DynamicModel, q, eta, payload_mass: float | None = None):
+    """(P, b, B) for one state: everything the reduced equations need, sharing one evaluation of M and ∂M/∂q."""
+    return (reduced_mass_matrix_one(model, q, payload_mass), reduced_bias_one(model, q, eta, payload_mass),
+            input_matrix_one(model, q))
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _terms(model, q, eta):
+    return jnp.vectorize(partial(reduced_terms_one, model), signature="(n),(k)->(k,k),(k),(k,a)")(q, eta)
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _input(model, q):
+    return jnp.vectorize(partial(input_matrix_one, model), signature="(n)->(k,a)")(q)
+
+
+@jax.jit
+def _solve_inverse(p, b, b_mat, eta_dot):
+    return jnp.linalg.solve(b_mat, p @ eta_dot[..., None] + b[..., None])[..., 0]
+
+
+@jax.jit
+def _solve_forward(p, b, b_mat, tau):
+    return jnp.linalg.solve(p, b_mat @ tau[..., None] - b[..., None])[..., 0]
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _energy(model, q, eta):
+    return jnp.vectorize(partial(energy_one, model), signature="(n),(k)->()")(q, eta)
+
+
+@partial(jax.jit, static_argnums=(0,))
+def _constraint_forces(model, q, eta, eta_dot, tau):
+    return jnp.vectorize(partial(constraint_forces_one, model), signature="(n),(k),(k),(k)->(c),(n)")(
+        q, eta, eta_dot, tau)
+
+
+def _eta(model: DynamicModel, value, name: str):
+    if isinstance(value, jax.core.Tracer):
+        return value
+    arr = jnp.asarray(value, dtype=float)
+    n = model.robot.n_eta
+    if arr.ndim == 0 or arr.shape[-1] != n:
+        raise InputError(f"{name} must have {n} components ({', '.join(model.robot.control_names)}), "
+                         f"got shape {tuple(arr.shape)}")
+    if not bool(jnp.all(jnp.isfinite(arr))):
+        raise InputError(f"{name} contains NaN or infinite values")
+    return arr
+
+
+def reduced_mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
+    """P(q) = Sᵀ M S, shape (..., n_eta, n_eta) (Yamamoto eq. 15)."""
+    return _reduced_mass(model, eq._q(model, q))
+
+
+def reduced_bias(model: DynamicModel, q, eta) -> jnp.ndarray:
+    """b(q, η) = Sᵀ M Ṡ η + Sᵀ (c + g), shape (..., n_eta) (−ξ of Yamamoto eq. 16)."""
+    return _terms(model, eq._q(model, q), _eta(model, eta, "eta"))[1]
+
+
+def input_matrix(model: DynamicModel, q) -> jnp.ndarray:
+    """B(q) = Sᵀ E, shape (..., n_eta, n_actuators) (Yamamoto's Q, eq. 16)."""
+    return _input(model, eq._q(model, q))
+
+
+def inverse_dynamics(model: DynamicModel, q, eta, eta_dot) -> jnp.ndarray:
+    """Actuator torques τ = B⁻¹ (P η̇ + b), shape (..., n_actuators); batched over time or configurations."""
+    eta_dot = _eta(model, eta_dot, "eta_dot")
+    return _solve_inverse(*_terms(model, eq._q(model, q), _eta(model, eta, "eta")), eta_dot)
+
+
+def forward_dynamics(model: DynamicModel, q, eta, tau) -> jnp.ndarray:
+    """η̇ = P⁻¹ (B τ − b), shape (..., n_eta)."""
+    tau = _eta(model, tau, "tau")
+    return _solve_forward(*_terms(model, eq._q(model, q), _eta(model, eta, "eta")), tau)
+
+
+def reduced_terms(model: DynamicModel, q, eta):
+    """(P, b, B) at once (one compiled evaluation), shapes (..., k, k), (..., k), (..., k, a)."""
+    return _terms(model, eq._q(model, q), _eta(model, eta, "eta"))
+
+
+def energy(model: DynamicModel, q, eta) -> jnp.ndarray:
+    """Total mechanical energy ½ ηᵀ P η + V(q), shape (...)."""
+    return _energy(model, eq._q(model, q), _eta(model, eta, "eta"))
+
+
+def constraint_forces(model: DynamicModel, q, eta, eta_dot, tau):
+    """(λ, residual): the constraint multipliers of the full equations M q̈ + c + g = E τ + Gᵀ λ for a motion
+    of the reduced equations, and the part of M q̈ + c + g − E τ outside the range of Gᵀ (zero when the
+    reduced equations hold: the constraint forces drop out of them exactly)."""
+    return _constraint_forces(model, eq._q(model, q), _eta(model, eta, "eta"), _eta(model, eta_dot, "eta_dot"),
+                              _eta(model, tau, "tau"))
+
+
+__all__ = [
+    "constraint_forces", "energy", "forward_dynamics", "input_matrix", "inverse_dynamics", "reduced_bias",
+    "reduced_mass_matrix", "reduced_terms",
+]
