@@ -99,24 +99,25 @@ def redundancy_report(
     )
 
 
+def _singularity(generic_rank: int, rank: np.ndarray) -> Singularity:
+    order = np.maximum(generic_rank - rank, 0)
+    return Singularity(order > 0, order)
+
+
 def is_kinematic_singular(
     robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
 ) -> Singularity:
     """KSC test d(q) < D, with singularity order D − d(q) (Bayle §3), batched over q."""
-    report = redundancy_report(robot, task, rtol=rtol)
     d, _ = ranks(robot, q, task, rtol)
-    order = np.maximum(report.D - d, 0)
-    return Singularity(order > 0, order)
+    return _singularity(redundancy_report(robot, task, rtol=rtol).D, d)
 
 
 def is_velocity_singular(
     robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
 ) -> Singularity:
     """VSC test d̄(q) < D̄, with singularity order D̄ − d̄(q) (Bayle §4.2), batched over q."""
-    report = redundancy_report(robot, task, rtol=rtol)
     _, d_bar = ranks(robot, q, task, rtol)
-    order = np.maximum(report.D_bar - d_bar, 0)
-    return Singularity(order > 0, order)
+    return _singularity(redundancy_report(robot, task, rtol=rtol).D_bar, d_bar)
 
 
 def is_consistent(robot: MobileManipulator, q, xi_dot, task: Task | None = None, rtol: float = RTOL) -> np.ndarray:
