@@ -85,6 +85,18 @@ class MobileManipulator:
 
             object.__setattr__(self, "task", Position())
 
+    def __hash__(self) -> int:
+        # The robot is a static argument of compiled functions and is hashed on every call: hash the nested
+        # description once (it is immutable). The cached value is not pickled (string hashes are per process).
+        cached = self.__dict__.get("_hash")
+        if cached is None:
+            cached = hash((self.platform, self.arms, self.mounts, self.task, self.name, self.parameters))
+            object.__setattr__(self, "_hash", cached)
+        return cached
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k != "_hash"}
+
     # --- layout --------------------------------------------------------------------------------------
 
     @property
