@@ -23,6 +23,7 @@ from mobman import manipulability as mp
 from mobman.model import Arm, DifferentialDrive, MobileManipulator
 from mobman.model.spatial import transform
 from mobman.model.task import EulerAngles, Position, stack
+from timing import best_time
 
 # Franka Emika Panda, modified DH (Craig): rows (α_{i−1}, a_{i−1}, θ_i, d_i); flange 0.107 m along z.
 PANDA_A = (0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088)
@@ -109,15 +110,6 @@ def single(robot, q):
         jbar = mp.system_jacobian(robot, qi)
         out = (jbar, mp.measures(jbar))
     return out
-
-
-def best_time(fn, repeat: int) -> float:
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        jax.block_until_ready(fn())
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def main(argv=None) -> None:
