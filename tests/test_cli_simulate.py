@@ -70,7 +70,7 @@ def test_simulate_json_and_out(tmp_path, capsys):
         ('name = "bayle-planar"', 'name = "walle"', "robot"),
         ('q0 = "0, 0, 0, -pi/4, pi/2"', 'q0 = [0, 0, 0]', "q0"),
         ('W = 1.0', 'W = -1.0', "gains"),
-        ('k = 0.5', 'kk = 0.5', "gains.kk"),
+        ('k = 2.0', 'kk = 2.0', "gains.kk"),
         ('dt = 0.02', 'dt = "fast"', "dt"),
         ('measure = "eccentricity"', 'measure = "beauty"', "criterion"),
         ('measures = ["system_w5", "arm_w5"]', 'measures = ["w7"]', "measures"),

@@ -108,7 +108,7 @@ def test_graining_times_agree_with_metrics(reproduction):
 
 def test_platform_never_slips():
     robot = nc.manus_robot()
-    result = nc.select(nc.simulate_strategy(robot, 2, "system_w5_normalized", nc.DURATION, 1 / 32), 1)
+    result = nc.simulate_strategy(robot, 2, "system_w5_normalized", nc.DURATION, 1 / 32).run(1)
     q, mid = result.q[:-1], result.info["q_mid"][:-1]
     for a, b in ((q, mid), (mid, result.q[1:])):
         heading = 0.5 * (a[:, 2] + b[:, 2])

@@ -5,6 +5,10 @@ one configuration, written with ``jax.numpy`` so that :meth:`Criterion.gradient`
 ``jax.grad``) is exact. ``task`` is the operational task the measure refers to (the robot's by default) and
 ``xi_star`` the current reference value, used only by :class:`Blend` (Bayle eq. 7).
 
+Every criterion is also a JAX pytree whose numbers (``Manipulability.power``, the α breakpoints of
+:class:`CubicTransition`) are leaves, the rest static: laws that differ only in those numbers are batched by
+``jax.vmap`` in one compiled simulation (e.g. P = w5 and P = w5² side by side).
+
 Sign convention: the laws always *decrease* P (Ṗ ≤ 0 for pure self-motion). Bayle's choices are P = w5
 (eccentricity: 0 for an isotropic ellipse, 1 at a singularity) or P = −w (Yoshikawa's measure with the
 opposite sign). :class:`Manipulability` therefore uses ``sign=+1`` for ``eccentricity`` and ``sign=−1`` for
@@ -20,6 +24,7 @@ from typing import Callable
 import jax
 import jax.numpy as jnp
 
+from mobman.control._tree import pytree
 from mobman.errors import ModelError
 
 MEASURES = ("eccentricity", "yoshikawa", "inverse_condition")
@@ -47,26 +52,31 @@ def measure_jacobian(robot, q, task, which: str) -> jnp.ndarray:
     return mp.system_jacobian(robot, q, task=task, normalized=which == "system_normalized")
 
 
+@pytree("power")
 @dataclass(frozen=True)
 class Manipulability(Criterion):
     """P = sign · measure(J) with J the arm Jacobian J_a, the reduced Jacobian J̄ or its normalised form
     J̄ R (Nait-Chabane eq. 20–26; R = diag(robot.velocity_limits)). ``rank`` restricts the measure to the
     r largest singular values (see :func:`mobman.manipulability.measures`).
 
-    ``power``: P = sign · measure^power. With ``power=2`` the eccentricity criterion w5² = 1 − σ_min²/σ_max²
-    has the same minimisers, level sets and descent directions as w5, but a bounded gradient: ∇w5 =
-    ∇(w5²)/(2 w5) grows without bound as the ellipse becomes a circle (w5 → 0), which makes a sampled
-    gradient law chatter around the isotropic configurations (see docs/control.md)."""
+    ``power`` ∈ {1, 2, 4}: P = sign · measure^power — the same minimisers, level sets and descent directions,
+    but not the same smoothness. For the eccentricity of a 2-row Jacobian (λ_i = σ_i² the eigenvalues of
+    the 2 × 2 Gram matrix G): λ_max − λ_min = √((G11 − G22)² + 4 G12²) is a cone at the isotropic
+    configurations, so w5 = √((λ_max − λ_min)/λ_max) has an unbounded gradient there (∇w5 = ∇(w5²)/(2 w5)),
+    w5² = (λ_max − λ_min)/λ_max a bounded but discontinuous one — a sampled gradient law chatters around
+    the optimum with both — and w5⁴ = (λ_max − λ_min)²/λ_max² is smooth, its gradient vanishing at the
+    optimum (see docs/control.md, Bayle reproduction)."""
 
     measure: str = "eccentricity"
     which: str = "system"
     sign: float | None = None
     rank: int | None = None
-    power: int = 1
+    power: float = 1.0
 
     def __post_init__(self) -> None:
-        if self.power not in (1, 2):
-            raise ModelError(f"Manipulability: power must be 1 or 2, got {self.power!r}")
+        if self.power not in (1, 2, 4):
+            raise ModelError(f"Manipulability: power must be 1, 2 or 4, got {self.power!r}")
+        object.__setattr__(self, "power", float(self.power))
         if self.measure not in MEASURES:
             raise ModelError(f"Manipulability: measure {self.measure!r} not one of {', '.join(MEASURES)}")
         if self.which not in WHICH:
@@ -86,6 +96,7 @@ class Manipulability(Criterion):
         return self.sign * mp.measures(jac, rank=self.rank)[self.measure] ** self.power
 
 
+@pytree()
 @dataclass(frozen=True)
 class JointLimitDistance(Criterion):
     """P = Σ_i ((q_i − q̄_i) / (q_i,max − q_i,min))² over the arm joints with finite limits, q̄_i the middle
@@ -99,6 +110,7 @@ class JointLimitDistance(Criterion):
         return jnp.sum(jnp.stack(terms)) if terms else jnp.zeros((), dtype=jnp.result_type(q, float))
 
 
+@pytree("start", "end", "alpha_start", "alpha_end")
 @dataclass(frozen=True)
 class CubicTransition:
     """α(ξ*) of Bayle eq. 7: the cubic in s = ξ*[coordinate] with the four boundary conditions
@@ -128,6 +140,7 @@ class CubicTransition:
         return self.alpha_start + (self.alpha_end - self.alpha_start) * tau * tau * (3.0 - 2.0 * tau)
 
 
+@pytree("system", "arm", "alpha")
 @dataclass(frozen=True)
 class Blend(Criterion):
     """P = α(ξ*) P_system + (1 − α(ξ*)) P_arm (Bayle eq. 7): a transition from the whole-system criterion
@@ -146,6 +159,7 @@ class Blend(Criterion):
         return a * self.system(robot, q, task, xi_star) + (1.0 - a) * self.arm(robot, q, task, xi_star)
 
 
+@pytree()
 @dataclass(frozen=True)
 class FunctionCriterion(Criterion):
     """A user function P = fn(q) (one configuration, ``jax.numpy``); its gradient comes from autodiff."""

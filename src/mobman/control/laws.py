@@ -1,7 +1,7 @@
 """Operational control laws with redundancy resolution: η = law(q, t, ξ*, ξ̇*).
 
-Every law is a frozen dataclass and a JAX pytree: its gains (``W``, ``k``, ``feedback``) and damping
-parameters are array leaves, so
+Every law is a frozen dataclass and a JAX pytree: its gains (``W``, ``k``, ``feedback``), damping
+parameters and the numbers of its criterion (see :mod:`mobman.control.criteria`) are array leaves, so
 a list of laws differing only in gains is batched by ``jax.vmap`` (see :func:`mobman.control.simulate`);
 the other options are static. ``law(robot, task, q, t, xi_star, xi_star_dot) -> (eta, info)`` acts on one
 configuration; ``info`` is a dict of scalars (damping, saturation, criterion value, …) recorded per step.
@@ -138,7 +138,7 @@ class _Law:
         return eta, info
 
 
-@pytree("W", "k", "damping", "damping_threshold")
+@pytree("W", "k", "criterion", "damping", "damping_threshold")
 @dataclass(frozen=True, eq=False)
 class BaylePseudoInverse(_Law):
     """Bayle eq. (5)–(6): η = J̄⁺(ξ̇* + W e) − k Hᵀ∇P, H = S (I − J̄⁺J̄). ``criterion=None``: no self-motion.
@@ -168,7 +168,7 @@ class BaylePseudoInverse(_Law):
         return _resolve(self, robot, task, q, xi_star, xi_star_dot)
 
 
-@pytree("W", "feedback", "damping", "damping_threshold")
+@pytree("W", "criterion", "feedback", "damping", "damping_threshold")
 @dataclass(frozen=True, eq=False)
 class NaitChabane(_Law):
     """Nait-Chabane eq. (30): u = J̄⁺(Ẋd + K e) − (I − J̄⁺J̄) W (∂P/∂q · S)ᵀ; ``feedback`` K (None: open loop).

@@ -181,19 +181,37 @@ def _measure_names(names: Sequence[str]) -> list[tuple[str, str, str]]:
     return parsed
 
 
-def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarray]:
-    """Manipulability measures named ``<which>_<w|w2|w5>`` along a (batched) path of configurations."""
+_MEASURE_CHUNK = 1024
+"""Configurations per compiled call of :func:`compute_measures` (the last chunk is padded): one compilation
+serves every run length and batch size."""
+
+
+@partial(jax.jit, static_argnums=(0, 1, 2))
+def _measure_chunk(robot, task, which, q):
     from mobman import manipulability as mp
     from mobman.control.criteria import measure_jacobian
 
+    return mp.measures(measure_jacobian(robot, q, task, which))
+
+
+def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarray]:
+    """Manipulability measures named ``<which>_<w|w2|w5>`` along a (batched) path of configurations."""
+    parsed = _measure_names(names)
+    q = np.asarray(q, dtype=float)
+    flat = q.reshape(-1, q.shape[-1])
+    if not len(flat):
+        raise InputError(f"measures: q holds no configuration (shape {q.shape})")
+    pad = -len(flat) % _MEASURE_CHUNK
+    chunks = np.concatenate([flat, np.repeat(flat[-1:], pad, axis=0)]).reshape(-1, _MEASURE_CHUNK, q.shape[-1])
     out: dict[str, np.ndarray] = {}
     cache: dict[str, dict] = {}
-    for name, which, measure in _measure_names(names):
+    for name, which, measure in parsed:
         if which == "system_normalized" and robot.velocity_limits is None:
             raise ModelError(f"measures: {name} needs velocity limits, {robot.name} has none")
         if which not in cache:
-            cache[which] = mp.measures(measure_jacobian(robot, q, task, which))
-        out[name] = np.asarray(cache[which][measure])
+            parts = [_measure_chunk(robot, task, which, c) for c in chunks]
+            cache[which] = {k: np.concatenate([np.asarray(p[k]) for p in parts]) for k in parts[0]}
+        out[name] = cache[which][measure][: len(flat)].reshape(q.shape[:-1])
     return out
 
 

@@ -88,15 +88,6 @@ def simulate_strategy(robot: MobileManipulator, case: int, strategy: str, durati
                     measures=MEASURES)
 
 
-def select(result: SimulationResult, i: int) -> SimulationResult:
-    """Run ``i`` of a batched result."""
-    return dataclasses.replace(
-        result, q=result.q[i], eta=result.eta[i], xi=result.xi[i], xi_star=result.xi_star[i], error=result.error[i],
-        measures={k: v[i] for k, v in result.measures.items()}, saturated=result.saturated[i],
-        damped=result.damped[i], info={k: v[i] for k, v in result.info.items()},
-    )
-
-
 def graining_times(t, v, threshold: float = V_THRESHOLD) -> np.ndarray:
     """Times at which the platform speed v changes sign (samples with |v| ≤ threshold ignored): the times of
     the graining points counted by :func:`mobman.control.metrics.graining_points`."""
@@ -187,7 +178,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
             if STRATEGIES[strategy] is None:
                 runs = [(None, result)]
             else:
-                runs = [(g, select(result, i)) for i, g in enumerate(GAINS)]
+                runs = [(g, result.run(i)) for i, g in enumerate(GAINS)]
             for gain, r in runs:
                 entries.append(summarize(case, strategy, gain, r, robot))
                 if gain is None or gain == GAIN:
@@ -335,7 +326,7 @@ def report(entries: list[dict], dt: float) -> str:
         "",
         "## Notes",
         "",
-        "- Claims that fail, and why, are discussed in docs/reproductions-kinematic.md; they depend on unstated "
+        "- Claims that fail, and why, are discussed in docs/control.md; they depend on unstated "
         "settings (link lengths, duration, W) — the last column of the claims table shows how much.",
         "- Typos in the paper: §4.2.2 writes the pseudo-inverse solution as u = J̄(q) Ẋd (it is J̄⁺ Ẋd); the "
         "discussion cites a figure 17 that does not exist (figures 12 and 16 are meant); the conclusion's "
