@@ -29,6 +29,7 @@ from mobman.dynamics.equations import (
     potential_energy,
     wheel_angle_rates,
 )
+from mobman.dynamics.actuators import DCMotor, TorqueBox
 from mobman.dynamics.inertia import DynamicModel, Payload, PlatformBody, Wheel, yamamoto_platform
 from mobman.dynamics.reduced import (
     constraint_forces,
@@ -39,6 +40,7 @@ from mobman.dynamics.reduced import (
     reduced_bias,
     reduced_mass_matrix,
 )
+from mobman.dynamics.load_capacity import InfeasibleMotionError, LoadCapacity, load_torques, max_load
 from mobman.dynamics.simulation import SimulationResult, simulate, zero_torque
 
 
@@ -55,4 +57,5 @@ __all__ = [
     "coriolis_matrix", "energy", "forward_dynamics", "gravity_vector", "input_matrix", "inverse_dynamics",
     "mass_matrix", "potential_energy", "reduced_bias", "reduced_mass_matrix", "SimulationResult", "simulate",
     "wheel_angle_rates", "yamamoto_model", "yamamoto_platform", "zero_torque",
+    "DCMotor", "InfeasibleMotionError", "LoadCapacity", "TorqueBox", "load_torques", "max_load",
 ]
