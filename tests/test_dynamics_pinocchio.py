@@ -13,13 +13,12 @@ from __future__ import annotations
 from importlib import metadata
 
 import numpy as np
+import pinocchio as pin  # test-only dependency (pyproject `test` extra): a missing install fails loudly
 import pytest
 
 import mobman
 from mobman import dynamics as dyn
 from mobman.model import spatial
-
-pin = pytest.importorskip("pinocchio")
 
 MOUNT = mobman.Mount(0.12, -0.05, 0.3, yaw=0.4)
 BODY = dyn.PlatformBody(20.0, 1.3, com=(0.05, 0.02, 0.1))
@@ -68,12 +67,15 @@ def _planar_three_link():
 
 def _panda():
     """The Panda's 7 joints with the inertials of example-robot-data (fingers locked into the hand)."""
-    files = [p for p in metadata.files("example-robot-data") if str(p).endswith("panda_description/urdf/panda.urdf")]
+    files = [p for p in metadata.files("example-robot-data") or () if str(p).endswith("panda_description/urdf/panda.urdf")]
+    assert files, "example-robot-data is installed without panda_description/urdf/panda.urdf"
     full = pin.buildModelFromUrdf(str(files[0].locate()))
     locked = [full.getJointId(n) for n in ("panda_finger_joint1", "panda_finger_joint2")]
     model = pin.buildReducedModel(full, locked, pin.neutral(full))
     links = []
+    assert model.njoints - 1 == 7
     for j in range(1, model.njoints):
+        assert model.joints[j].shortname() == "JointModelRZ"  # every Panda joint turns about its local z
         inertia = model.inertias[j]
         links.append(((0.0, 0.0, 1.0), model.jointPlacements[j].homogeneous, inertia.mass,
                       np.asarray(inertia.lever), np.asarray(inertia.inertia)))

@@ -319,3 +319,59 @@ def test_dynamic_errors(model, qs):
         dynamic_ellipsoid(model, qs[0], LIMITS, platform_scale=0.0)
     with pytest.raises(InputError, match="eta"):
         dynamic_ellipsoid(model, qs[0], LIMITS, eta=np.zeros(3))
+
+
+# --- point grasp (hands at the object's centre of mass through pivots) ----------------------------------
+
+
+@pytest.fixture(scope="module")
+def q_point(robot):
+    """Three configurations with both tool points at one point (mirror arms about a direction from the base)."""
+    from mobman.experiments.yamamoto1999 import paper_configuration
+
+    out = []
+    for angle, posture, pose in ((20.0, (0.7, 1.2), (0.3, -0.2, 0.4)), (75.0, (1.0, 0.9), (-1.0, 0.5, -0.7)),
+                                 (-40.0, (0.5, 1.5), (0.0, 0.0, 2.0))):
+        q = paper_configuration(robot, angle, posture)
+        q[:3] = pose
+        out.append(q)
+    return np.array(out)
+
+
+def test_point_grasp_kinematic_ellipsoid(robot, q_point):
+    """{v_o : v_oᵀ W (Ĵ Ĵᵀ)⁻¹ Wᵀ v_o ≤ 1} with W = [I₂ I₂] and Ĵ the two tool points' rows."""
+    e = kinematic_ellipsoid(robot, q_point, held=True, grasp="point")
+    platform = robot.platform
+    t = np.eye(robot.n_eta)
+    t[:2, :2] = [[platform.wheel_radius / 2] * 2,
+                 [platform.wheel_radius / (2 * platform.half_track), -platform.wheel_radius / (2 * platform.half_track)]]
+    task = stack(Position("xy", arm=0), Position("xy", arm=1))
+    jhat = np.asarray(kinematics.reduced_jacobian(robot, q_point, task)) @ t * np.array([1 / 0.075] * 2 + [3.14] * 6)
+    w = np.hstack([np.eye(2), np.eye(2)])
+    form = w @ np.linalg.inv(jhat @ np.swapaxes(jhat, -1, -2)) @ w.T
+    np.testing.assert_allclose(np.linalg.inv(e.shape_matrix), form, rtol=1e-8)
+    assert e.names == ("x_o", "y_o")
+
+
+def test_point_grasp_exact_dynamic_ellipsoid_is_the_image_of_the_torque_ball(model, q_point):
+    """a_o = G τ at rest by the object's operational-space inertia with W = [I₂ I₂], M_o = m I₂:
+    (M_o + W Λ_e Wᵀ) a_o = W Λ_e J P⁻¹ B τ, Λ_e = (J P⁻¹ Jᵀ)⁻¹ (η coordinates, P and B from the dynamics API)."""
+    e = dynamic_ellipsoid(model, q_point, LIMITS, obj=OBJ, method="exact", grasp="point")
+    task = stack(Position("xy", arm=0), Position("xy", arm=1))
+    p = np.asarray(dyn.reduced_mass_matrix(model, q_point))
+    b = np.asarray(dyn.input_matrix(model, q_point))
+    j = np.asarray(kinematics.reduced_jacobian(model.robot, q_point, task))
+    jp = j @ np.linalg.inv(p)
+    lam_e = np.linalg.inv(jp @ np.swapaxes(j, -1, -2))
+    w = np.hstack([np.eye(2), np.eye(2)])
+    g = np.linalg.solve(OBJ.mass * np.eye(2) + w @ lam_e @ w.T, w @ lam_e @ jp @ b)
+    np.testing.assert_allclose(e.matrix, g * LIMITS, rtol=1e-7, atol=1e-9)
+    paper = dynamic_ellipsoid(model, q_point, LIMITS, obj=OBJ, method="paper", grasp="point")
+    assert np.all(paper.volume < e.volume) and paper.names == ("x_o", "y_o")
+
+
+def test_point_grasp_needs_the_hands_at_one_point(model, robot, qs):
+    with pytest.raises(InputError, match="grasp='point'"):
+        kinematic_ellipsoid(robot, qs, held=True, grasp="point")
+    with pytest.raises(InputError, match="grasp"):
+        dynamic_ellipsoid(model, qs[0], LIMITS, obj=OBJ, grasp="glued")

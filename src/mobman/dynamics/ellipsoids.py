@@ -30,6 +30,11 @@ M_o a_o + c_o + g_o = W h (eq. 22). Two ellipsoids:
   whatever the self-motion and internal forces. It contains the paper's ellipsoid; both agree when Λ̄ is the
   minimum-norm inverse (e.g. a non-redundant arm without object).
 
+**Grasp.** ``grasp="rigid"`` (default): each hand holds the object rigidly, wrenches (f, n) and the object's
+(x_o, y_o, angle_o). ``grasp="point"``: the hands hold the object at its centre of mass through pivots (all tool
+points within 1 mm of one point, as in the paper's case study), forces only: W = [I₂ I₂ …], v_i = v_o, M_o = m I₂, task
+(x_o, y_o) — the paper's 2-D ellipses with m = 2.
+
 ``interaction=False`` drops the inertial coupling between platform and arms in P (the paper's §4.3
 simplification). Results are :class:`Ellipsoid` objects: centre, shape matrix, principal axes and directions,
 volume, sections and projections.
@@ -54,6 +59,8 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.task import PlanarAngle, Position, Task, stack
 
 Method = Literal["paper", "exact"]
+Grasp = Literal["rigid", "point"]
+GRASPS = ("rigid", "point")
 
 
 # --- the ellipsoid as a result ---------------------------------------------------------------------
@@ -184,13 +191,24 @@ def actuator_velocity_limits(robot: MobileManipulator, platform_scale: float = 1
     return limits
 
 
-def grasp_task(robot: MobileManipulator) -> Task:
-    """Planar pose (x, y, angle) of every arm's tool frame, stacked: the rows that a held object couples."""
+def grasp_task(robot: MobileManipulator, grasp: Grasp = "rigid") -> Task:
+    """The rows that a held object couples, stacked over the arms: the planar pose (x, y, angle) of every tool
+    frame for a rigid grasp, the tool point (x, y) for a point grasp."""
+    if grasp == "point":
+        return stack(*[Position("xy", arm=i, label=f"ee{i + 1}") for i in range(len(robot.arms))])
     return stack(*[stack(Position("xy", arm=i, label=f"ee{i + 1}"), PlanarAngle(arm=i))
                    for i in range(len(robot.arms))])
 
 
 OBJECT_NAMES = ("x_o", "y_o", "angle_o")
+POINT_NAMES = ("x_o", "y_o")
+POINT_TOLERANCE = 1e-3  # m: how far from their centroid the tool points of a point grasp may be
+
+
+def point_grasp_matrix(n_arms: int) -> np.ndarray:
+    """W = [I₂ I₂ …] (2 × 2k) of a point grasp: every hand holds the object at its centre of mass through a pivot,
+    so it transmits a force and no moment, h_o = Σ f_i (eq. 17), and v_i = v_o (eq. 20, Ẇ = 0)."""
+    return np.hstack([np.eye(2)] * n_arms)
 
 
 def _tool_points(robot: MobileManipulator, q: jnp.ndarray) -> jnp.ndarray:
@@ -204,9 +222,16 @@ def grasp_offsets(robot: MobileManipulator, q) -> jnp.ndarray:
     return points - jnp.mean(points, axis=-2, keepdims=True)
 
 
-def _check_held(robot: MobileManipulator) -> None:
+def _check_held(robot: MobileManipulator, grasp: str, q) -> None:
     if len(robot.arms) < 2:
         raise ModelError(f"{robot.name}: a held object needs two or more arms, the robot has {len(robot.arms)}")
+    if grasp not in GRASPS:
+        raise InputError(f"grasp must be one of {', '.join(GRASPS)}, got {grasp!r}")
+    if grasp == "point":
+        spread = float(np.max(np.abs(np.asarray(grasp_offsets(robot, q)))))
+        if spread > POINT_TOLERANCE:
+            raise InputError(f"grasp='point' needs all tool points at one point (the object's centre of mass); "
+                             f"they are up to {spread:.3g} m from their centroid")
 
 
 def _scale(value, name: str) -> np.ndarray:
@@ -220,14 +245,17 @@ def _scale(value, name: str) -> np.ndarray:
 
 
 @partial(jax.jit, static_argnums=(0, 1, 2))
-def _kinematic(robot: MobileManipulator, task: Task, held: bool, q, u_max):
+def _kinematic(robot: MobileManipulator, task: Task, held: str | None, q, u_max):
     t = actuator_map(robot, uses_wheels(robot))
 
     def one(q, u_max):
         jhat = kinematics.reduced_jacobian(robot, q, task) @ t * u_max  # Ĵ = J T Y⁻¹ (eq. 24)
-        if not held:
+        if held is None:
             return jnp.zeros(jhat.shape[0]), jhat
-        w = grasp_matrix(grasp_offsets(robot, q))
+        if held == "point":
+            w = jnp.asarray(point_grasp_matrix(len(robot.arms)))
+        else:
+            w = grasp_matrix(grasp_offsets(robot, q))
         w_left = jnp.linalg.solve(w @ w.T, w)  # (W Wᵀ)⁻¹ W: v_o from rigid end-effector velocities
         internal = jnp.eye(w.shape[1]) - w.T @ w_left  # projector onto internal (non-rigid) velocities
         cj = internal @ jhat
@@ -244,24 +272,27 @@ def kinematic_ellipsoid(
     held: bool = False,
     platform_scale=1.0,
     task: Task | None = None,
+    grasp: Grasp = "rigid",
 ) -> Ellipsoid:
     """Kinematic task-space ellipsoid (eq. 23–26), batched over q (and over ``platform_scale``).
 
     ``held=False``: velocities of ``task`` (default: the robot's) reachable with |Y u| ≤ 1.
     ``held=True``: velocities (ẋ_o, ẏ_o, ω_o) of an object rigidly held by all arms (planar robots), centre of
-    mass at the centroid of the tool points. ``platform_scale`` multiplies the platform's maximum velocities.
+    mass at the centroid of the tool points; with ``grasp="point"`` the hands hold the object's centre of mass
+    through pivots (all tool points within 1 mm of one point) and the ellipsoid is that of (ẋ_o, ẏ_o).
+    ``platform_scale`` multiplies the platform's maximum velocities.
     """
     q = robot.validate_q(q)
     if held:
-        _check_held(robot)
-        task = grasp_task(robot)
+        _check_held(robot, grasp, q)
+        task = grasp_task(robot, grasp)
     task = robot.task if task is None else task
     task.check(robot)
     scale = _scale(platform_scale, "platform_scale")
     is_platform = np.arange(robot.n_eta) < robot.platform.n_eta
     u_max = actuator_velocity_limits(robot) * np.where(is_platform, scale[..., None], 1.0)
-    center, matrix = _kinematic(robot, task, held, q, u_max)
-    names = OBJECT_NAMES if held else task.names
+    center, matrix = _kinematic(robot, task, grasp if held else None, q, u_max)
+    names = (POINT_NAMES if grasp == "point" else OBJECT_NAMES) if held else task.names
     return Ellipsoid(np.asarray(center), np.asarray(matrix), names, np.ones(center.shape[:-1], dtype=bool))
 
 
@@ -282,8 +313,8 @@ class _Terms:
     bias_o: np.ndarray  # c_o + g_o (..., m)
 
 
-@partial(jax.jit, static_argnums=(0, 1, 2, 3, 4))
-def _dynamic_terms(model, task: Task, obj: HeldObject | None, wheels: bool, at_rest: bool, q, eta):
+@partial(jax.jit, static_argnums=(0, 1, 2, 3, 4, 5))
+def _dynamic_terms(model, task: Task, obj: HeldObject | None, grasp: str, wheels: bool, at_rest: bool, q, eta):
     from mobman import dynamics as dyn
 
     robot = model.robot
@@ -304,6 +335,10 @@ def _dynamic_terms(model, task: Task, obj: HeldObject | None, wheels: bool, at_r
         if obj is None:
             m = j.shape[0]
             w, m_o, bias_o = jnp.eye(m), jnp.zeros((m, m)), jnp.zeros(m)
+        elif grasp == "point":  # forces only at the centre of mass: W constant, M_o = m I₂
+            w = jnp.asarray(point_grasp_matrix(len(robot.arms)))
+            m_o = obj.mass * jnp.eye(2)
+            bias_o = obj.bias(jnp.zeros(3), gravity=model.gravity)[:2]
         else:
             r = grasp_offsets(robot, q)
             w = grasp_matrix(r)
@@ -374,24 +409,24 @@ def _exact(terms: _Terms, tau_max: np.ndarray):
 
 
 def dynamic_terms(model, q, *, eta=None, obj: HeldObject | None = None, task: Task | None = None,
-                  interaction: bool = True, platform_fixed: bool = False) -> _Terms:
+                  interaction: bool = True, platform_fixed: bool = False, grasp: Grasp = "rigid") -> _Terms:
     """The matrices of eq. 16, 21, 22 in actuator coordinates (wheels, joints), batched over q and η.
 
     ``interaction=False`` zeroes the platform–arm blocks of P; ``platform_fixed=True`` keeps only the arms'
-    coordinates (the platform braked).
+    coordinates (the platform braked); ``grasp``: how ``obj`` is held (see :func:`dynamic_ellipsoid`).
     """
     robot = model.robot
     q = robot.validate_q(q)
     if obj is not None:
-        _check_held(robot)
-        task = grasp_task(robot)
+        _check_held(robot, grasp, q)
+        task = grasp_task(robot, grasp)
     task = robot.task if task is None else task
     task.check(robot)
     at_rest = eta is None
     eta = np.zeros(robot.n_eta) if eta is None else np.asarray(eta, dtype=float)
     if eta.shape[-1] != robot.n_eta or not np.all(np.isfinite(eta)):
         raise InputError(f"eta: expected {robot.n_eta} finite quasi-velocities, got shape {eta.shape}")
-    raw = _dynamic_terms(model, task, obj, uses_wheels(robot, "dynamic"), at_rest, q, eta)
+    raw = _dynamic_terms(model, task, obj, grasp, uses_wheels(robot, "dynamic"), at_rest, q, eta)
     terms = _Terms(*(np.asarray(x) for x in raw))
     p = terms.p if interaction else terms.p * _interaction_mask(robot)
     keep = np.arange(robot.platform.n_eta if platform_fixed else 0, robot.n_eta)
@@ -411,6 +446,7 @@ def dynamic_ellipsoid(
     interaction: bool = True,
     platform_fixed: bool = False,
     task: Task | None = None,
+    grasp: Grasp = "rigid",
 ) -> Ellipsoid:
     """Dynamic task-space ellipsoid of accelerations (eq. 27–38), batched over q, η and ``platform_scale``.
 
@@ -418,7 +454,9 @@ def dynamic_ellipsoid(
     (wheels right, left, then joints), N·m; ``platform_scale`` multiplies the wheel limits. ``eta``: the current
     quasi-velocities (None: at rest, eq. 27–30); velocity, Coriolis and gravity terms shift the ellipsoid (μ_o).
     ``obj``: a held object (planar robots, all arms grasp it; task (x_o, y_o, angle_o)); otherwise ``task``
-    (default: the robot's). ``method``: "paper" (eq. 31–38) or "exact" (image of the torque ball).
+    (default: the robot's). ``grasp="point"``: the hands hold the object's centre of mass through pivots (all
+    tool points within 1 mm of one point), forces only, W = [I₂ I₂ …], task (x_o, y_o).
+    ``method``: "paper" (eq. 31–38) or "exact" (image of the torque ball).
     ``interaction=False`` drops the platform–arm inertial coupling (the paper's §4.3 simplification).
     ``platform_fixed=True``: the platform braked (its wheel torques removed): the fixed-base multi-arm system.
     """
@@ -434,11 +472,14 @@ def dynamic_ellipsoid(
     if np.any(scale <= 0):
         raise InputError("platform_scale must be > 0 for the dynamic ellipsoid")
     terms = dynamic_terms(model, q, eta=eta, obj=obj, task=task, interaction=interaction,
-                          platform_fixed=platform_fixed)
+                          platform_fixed=platform_fixed, grasp=grasp)
     is_platform = np.arange(robot.n_eta) < robot.platform.n_eta
     tau_max = limits * np.where(is_platform, scale[..., None], 1.0)
     if platform_fixed:
         tau_max = tau_max[..., ~is_platform]
     center, matrix, feasible = (_paper if method == "paper" else _exact)(terms, tau_max)
-    names = OBJECT_NAMES if obj is not None else (robot.task if task is None else task).names
+    if obj is not None:
+        names = POINT_NAMES if grasp == "point" else OBJECT_NAMES
+    else:
+        names = (robot.task if task is None else task).names
     return Ellipsoid(center, matrix, names, feasible)

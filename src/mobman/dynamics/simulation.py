@@ -1,5 +1,8 @@
 """Forward-dynamics simulation of the reduced equations: one compiled ``lax.scan`` with classical RK4.
 
+The four RK4 stages run in a ``fori_loop`` over the Butcher tableau, so the dynamics are traced and compiled
+once instead of four times (half the compile time, for a slightly slower step).
+
 State (q, η) with q̇ = S(q) η and η̇ = P⁻¹ (B τ − b) (:mod:`mobman.dynamics.reduced`). Because q̇ is always
 S(q) η the simulated platform satisfies the nonholonomic constraints exactly (it never slips); the only
 error is the integration error of RK4, O(dt⁴).
@@ -46,15 +49,21 @@ def _simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn, steps: int, dt
         tau = torque_fn(t, q, eta)
         return robot.S(q) @ eta, reduced.forward_dynamics_one(model, q, eta, tau)
 
+    nodes = jnp.array([0.0, 0.5, 0.5, 1.0])  # classical RK4 tableau: stage i evaluates at y + nodes[i] dt k_{i-1}
+    weights = jnp.array([1.0, 2.0, 2.0, 1.0]) / 6.0
+
     def step(state, k):
         q, eta = state
         t = k * dt
-        k1 = deriv(t, q, eta)
-        k2 = deriv(t + dt / 2, q + dt / 2 * k1[0], eta + dt / 2 * k1[1])
-        k3 = deriv(t + dt / 2, q + dt / 2 * k2[0], eta + dt / 2 * k2[1])
-        k4 = deriv(t + dt, q + dt * k3[0], eta + dt * k3[1])
-        q_next = q + dt / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
-        eta_next = eta + dt / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+
+        def stage(i, carry):  # one traced copy of the dynamics for the four stages: a small graph to compile
+            (k_q, k_eta), (sum_q, sum_eta) = carry
+            k_q, k_eta = deriv(t + nodes[i] * dt, q + nodes[i] * dt * k_q, eta + nodes[i] * dt * k_eta)
+            return (k_q, k_eta), (sum_q + weights[i] * k_q, sum_eta + weights[i] * k_eta)
+
+        zero = (jnp.zeros_like(q), jnp.zeros_like(eta))
+        _, (sum_q, sum_eta) = jax.lax.fori_loop(0, 4, stage, (zero, zero))
+        q_next, eta_next = q + dt * sum_q, eta + dt * sum_eta
         return (q_next, eta_next), (q_next, eta_next, torque_fn(t + dt, q_next, eta_next))
 
     _, (qs, etas, taus) = jax.lax.scan(step, (q0, eta0), jnp.arange(steps))

@@ -1,0 +1,150 @@
+"""``mobman ellipsoid``: axes, directions and volume against independent formulas; one-line errors, exit 2."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from mobman import dynamics as dyn
+from mobman import kinematics
+from mobman.cli import main
+from mobman.dynamics.ellipsoids import grasp_offsets, grasp_task
+from mobman.dynamics.grasp import grasp_matrix
+from mobman.model import robots
+from mobman.model.task import Position, stack
+
+YAMAMOTO_Q = "0.2,-0.1,0.3,0.3,0.8,1.1,-0.3,-0.8,-1.1"
+TORQUES = np.array([200.0, 200.0, 200.0, 100.0, 30.0, 200.0, 100.0, 30.0])  # Tables 1–2: wheels, joints
+
+
+def _json(args, capsys) -> dict:
+    main(["ellipsoid", *args, "--json"])
+    return json.loads(capsys.readouterr().out)
+
+
+def _check_geometry(report: dict, expected_axes: np.ndarray, expected_form: np.ndarray | None = None) -> None:
+    """Axes (major first) and directions: Σ d_k = a_k² d_k for the shape matrix Σ built independently."""
+    axes = np.array(report["axes"])
+    directions = np.array(report["directions"])  # one direction per row
+    np.testing.assert_allclose(axes, expected_axes, rtol=1e-8)
+    assert np.all(np.diff(axes) < 0)
+    np.testing.assert_allclose(directions @ directions.T, np.eye(len(axes)), atol=1e-10)
+    if expected_form is not None:
+        np.testing.assert_allclose(directions @ expected_form @ directions.T, np.diag(axes**2), atol=1e-8 * axes[0]**2)
+    unit_ball = math.pi ** (len(axes) / 2) / math.gamma(len(axes) / 2 + 1)
+    assert math.isclose(report["volume"], unit_ball * np.prod(expected_axes), rel_tol=1e-8)
+
+
+def test_kinematic_ellipsoid_is_the_svd_of_the_normalised_jacobian(capsys):
+    robot = robots.bayle_planar()
+    q = np.array([0.5, -0.2, 0.4, 1.0, 0.7])
+    report = _json(["bayle-planar", "--q", ",".join(map(str, q))], capsys)
+    jn = np.asarray(kinematics.reduced_jacobian(robot, q)) * np.array(robot.velocity_limits)
+    _check_geometry(report, np.linalg.svd(jn, compute_uv=False), jn @ jn.T)
+    assert report["names"] == list(robot.task.names) and report["kind"] == "kinematic"
+    np.testing.assert_allclose(report["center"], 0.0)
+
+
+def test_held_object_kinematic_ellipsoid_is_corrected_eq26(capsys):
+    """Object velocities: {v_o : v_oᵀ W (Ĵ Ĵᵀ)⁻¹ Wᵀ v_o ≤ 1}, Ĵ = J̄ T Y⁻¹ with wheel speeds ≤ 1/r, joints ≤ 3.14."""
+    robot = robots.yamamoto_dual_arm()
+    q = np.array(YAMAMOTO_Q.split(","), dtype=float)
+    report = _json(["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--held"], capsys)
+    r, b = 0.075, 0.171
+    t = np.eye(8)
+    t[:2, :2] = [[r / 2, r / 2], [r / (2 * b), -r / (2 * b)]]
+    jhat = np.asarray(kinematics.reduced_jacobian(robot, q, grasp_task(robot))) @ t * np.array([1 / r] * 2 + [3.14] * 6)
+    w = np.asarray(grasp_matrix(grasp_offsets(robot, q)))
+    sigma = np.linalg.inv(w @ np.linalg.inv(jhat @ jhat.T) @ w.T)
+    _check_geometry(report, np.sqrt(np.linalg.eigvalsh(sigma)[::-1]), sigma)
+    assert report["names"] == ["x_o", "y_o", "angle_o"] and report["held"]
+
+
+def test_dynamic_exact_ellipsoid_is_the_image_of_the_torque_ball(capsys):
+    """At rest without object: a = J̄ P⁻¹ B τ (P, B of the reduced dynamics, η coordinates), |Z τ| ≤ 1."""
+    model = dyn.yamamoto_model()
+    q = np.array(YAMAMOTO_Q.split(","), dtype=float)
+    report = _json(["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic"], capsys)
+    p = np.asarray(dyn.reduced_mass_matrix(model, q))
+    b_mat = np.asarray(dyn.input_matrix(model, q))
+    g = np.asarray(kinematics.reduced_jacobian(model.robot, q)) @ np.linalg.solve(p, b_mat) * TORQUES
+    _check_geometry(report, np.linalg.svd(g, compute_uv=False), g @ g.T)
+    np.testing.assert_allclose(report["torque_limits"], TORQUES)
+    assert report["method"] == "exact" and report["units"].startswith("m/s²")
+
+
+def test_dynamic_paper_ellipsoid_lies_inside_the_exact_one(capsys):
+    args = ["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--held"]
+    exact = _json(args, capsys)
+    paper = _json([*args, "--method", "paper"], capsys)
+    assert paper["method"] == "paper" and paper["feasible"]
+    assert 0 < paper["volume"] < exact["volume"]
+    assert paper["axes"][0] <= exact["axes"][0] * (1 + 1e-9)
+
+
+def test_point_grasp_from_the_command_line(capsys):
+    """Hands at one point to 4-digit angles (within 1 mm): the (x_o, y_o) ellipse
+    {v_o : v_oᵀ W (Ĵ Ĵᵀ)⁻¹ Wᵀ v_o ≤ 1} with W = [I₂ I₂] and Ĵ the two tool points' normalised rows."""
+    q = "0,0,0,-0.8741,0.78,1.1312,0.8741,-0.78,-1.1312"
+    kin = _json(["yamamoto-dual-arm", "--q", q, "--held", "--grasp", "point"], capsys)
+    assert kin["names"] == ["x_o", "y_o"] and kin["grasp"] == "point" and len(kin["axes"]) == 2
+    robot = robots.yamamoto_dual_arm()
+    qv = np.array(q.split(","), dtype=float)
+    r, b = 0.075, 0.171
+    t = np.eye(8)
+    t[:2, :2] = [[r / 2, r / 2], [r / (2 * b), -r / (2 * b)]]
+    task = stack(Position("xy", arm=0), Position("xy", arm=1))
+    jhat = np.asarray(kinematics.reduced_jacobian(robot, qv, task)) @ t * np.array([1 / r] * 2 + [3.14] * 6)
+    w = np.hstack([np.eye(2), np.eye(2)])
+    sigma = np.linalg.inv(w @ np.linalg.inv(jhat @ jhat.T) @ w.T)
+    _check_geometry(kin, np.sqrt(np.linalg.eigvalsh(sigma)[::-1]), sigma)
+
+
+def test_param_changes_the_robot(capsys):
+    q = "0,0,0,1,0.7"
+    base = _json(["bayle-planar", "--q", q], capsys)
+    longer = _json(["bayle-planar", "--q", q, "--param", "l2=0.8"], capsys)
+    assert longer["params"]["l2"] == 0.8 and base["params"]["l2"] == 0.5
+    robot = robots.bayle_planar(l2=0.8)
+    jn = np.asarray(kinematics.reduced_jacobian(robot, np.array([0, 0, 0, 1, 0.7]))) * np.array(robot.velocity_limits)
+    np.testing.assert_allclose(longer["axes"], np.linalg.svd(jn, compute_uv=False), rtol=1e-8)
+    assert not np.allclose(longer["axes"], base["axes"], rtol=1e-3)
+
+
+def test_human_readable_output_lists_axes_and_volume(capsys):
+    main(["ellipsoid", "bayle-planar", "--q", "0,0,0,1,0.7"])
+    out = capsys.readouterr().out
+    report = _json(["bayle-planar", "--q", "0,0,0,1,0.7"], capsys)
+    assert "semi-axis" in out and "volume:" in out
+    assert f"{report['axes'][0]:.6g}" in out and f"{report['volume']:.6g}" in out
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["bayle-planar"], "--q"),
+        (["bayle-planar", "--q", "0,0,0,1"], "--q"),
+        (["bayle-planar", "--q", "0,0,0,1,x"], "--q"),
+        (["bayle-planar", "--q", "0,0,0,1,1", "--kind", "static"], "--kind"),
+        (["bayle-planar", "--q", "0,0,0,1,1", "--kind", "dynamic"], "dynamic model"),
+        (["tchon-car-rtr", "--q", "0,0,0,0,1,1,1"], "velocity limits"),
+        (["bayle-planar", "--q", "0,0,0,1,1", "--held"], "two or more arms"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--param", "L1=-1"], "L1"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--param", "Lx=1"], "Lx"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--held", "--object-mass", "-2"],
+         "--object-mass"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--method", "best"], "--method"),
+        (["no-such-robot", "--q", "0"], "unknown robot"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--held", "--grasp", "glue"], "--grasp"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--held", "--grasp", "point"], "grasp='point'"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(args, message, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["ellipsoid", *args])
+    assert info.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error:") and message in lines[0]
