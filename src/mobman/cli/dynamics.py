@@ -47,7 +47,6 @@ exits with status 2.
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -58,10 +57,10 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli import app
-from mobman.control.spec import _array, _build, _keys, _number, _robot, _table
 from mobman.control.spec import parse as parse_control
 from mobman.errors import InputError
 from mobman.io import dump_json
+from mobman.io import spec as fields
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
@@ -86,7 +85,7 @@ def _vector(table: dict, key: str, field: str, size: tuple[int, ...], default=No
     value = table.get(key, default)
     if value is None:
         raise InputError(f"{field}.{key}: missing")
-    arr = _array(value, f"{field}.{key}")
+    arr = fields.array(value, f"{field}.{key}")
     if arr.size not in size:
         raise InputError(f"{field}.{key}: {' or '.join(map(str, size))} numbers, got {arr.size}")
     return tuple(arr.ravel())
@@ -98,30 +97,40 @@ def _inertials(data: dict, robot):
     from mobman.dynamics.load_capacity import with_link_inertials
     from mobman.model.arm import LinkInertial
 
-    platform = _table(data, "platform", "platform")
-    _keys(platform, "platform", ("mass", "inertia_z", "com"))
-    body = _build("platform", dyn.PlatformBody, mass=_number(platform, "mass", "platform"),
-                  inertia_z=_number(platform, "inertia_z", "platform"),
-                  com=_vector(platform, "com", "platform", (3,), (0.0, 0.0, 0.0)))
+    platform = fields.table(data, "platform", "platform")
+    fields.keys(platform, "platform", ("mass", "inertia_z", "com"))
+    body = fields.build(
+        "platform",
+        dyn.PlatformBody,
+        mass=fields.number(platform, "mass", "platform"),
+        inertia_z=fields.number(platform, "inertia_z", "platform"),
+        com=_vector(platform, "com", "platform", (3,), (0.0, 0.0, 0.0)),
+    )
     wheel = None
-    wheel_table = _table(data, "wheel", "wheel", required=False)
+    wheel_table = fields.table(data, "wheel", "wheel", required=False)
     if wheel_table is not None:
-        _keys(wheel_table, "wheel", ("mass", "I_w", "I_m"))
-        values = {k: _number(wheel_table, k, "wheel") for k in ("mass", "I_w", "I_m")}
-        wheel = _build("wheel", dyn.Wheel, **values)
+        fields.keys(wheel_table, "wheel", ("mass", "I_w", "I_m"))
+        values = {k: fields.number(wheel_table, k, "wheel") for k in ("mass", "I_w", "I_m")}
+        wheel = fields.build("wheel", dyn.Wheel, **values)
     links = data.get("links")
     if not isinstance(links, list) or not all(isinstance(link, dict) for link in links):
         raise InputError("links: missing or not an array of tables ([[links]] with mass, com, inertia)")
     per_arm: dict[int, list] = {}
     for k, link in enumerate(links):
         field = f"links[{k}]"
-        _keys(link, field, ("mass", "com", "inertia", "arm"))
+        fields.keys(link, field, ("mass", "com", "inertia", "arm"))
         arm = link.get("arm", 0)
         if isinstance(arm, bool) or not isinstance(arm, int) or not 0 <= arm < len(robot.arms):
             raise InputError(f"{field}.arm: an arm index in 0..{len(robot.arms) - 1}, got {arm!r}")
-        per_arm.setdefault(arm, []).append(_build(
-            field, LinkInertial, mass=_number(link, "mass", field), com=_vector(link, "com", field, (3,)),
-            inertia=_vector(link, "inertia", field, (3, 9))))
+        per_arm.setdefault(arm, []).append(
+            fields.build(
+                field,
+                LinkInertial,
+                mass=fields.number(link, "mass", field),
+                com=_vector(link, "com", field, (3,)),
+                inertia=_vector(link, "inertia", field, (3, 9)),
+            )
+        )
     for arm, inertials in sorted(per_arm.items()):
         n = robot.arms[arm].n_joints
         if len(inertials) != n:
@@ -131,24 +140,30 @@ def _inertials(data: dict, robot):
             )
         robot = with_link_inertials(robot, inertials, arm)
     payload = dyn.Payload(1.0)
-    payload_table = _table(data, "payload", "payload", required=False)
+    payload_table = fields.table(data, "payload", "payload", required=False)
     if payload_table is not None:
-        _keys(payload_table, "payload", ("com", "inertia", "arm"))
+        fields.keys(payload_table, "payload", ("com", "inertia", "arm"))
         arm = payload_table.get("arm", 0)
         if isinstance(arm, bool) or not isinstance(arm, int) or not 0 <= arm < len(robot.arms):
             raise InputError(f"payload.arm: an arm index in 0..{len(robot.arms) - 1}, got {arm!r}")
-        payload = _build("payload", dyn.Payload, mass=1.0,
-                         com=_vector(payload_table, "com", "payload", (3,), (0.0, 0.0, 0.0)),
-                         inertia=_vector(payload_table, "inertia", "payload", (3, 9), (0.0,) * 9), arm=arm)
+        payload = fields.build(
+            "payload",
+            dyn.Payload,
+            mass=1.0,
+            com=_vector(payload_table, "com", "payload", (3,), (0.0, 0.0, 0.0)),
+            inertia=_vector(payload_table, "inertia", "payload", (3, 9), (0.0,) * 9),
+            arm=arm,
+        )
     gravity = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
-    return _build("spec", dyn.DynamicModel, robot=robot, body=body, wheel=wheel, payload=payload,
-                  gravity=gravity)
+    return fields.build(
+        "spec", dyn.DynamicModel, robot=robot, body=body, wheel=wheel, payload=payload, gravity=gravity
+    )
 
 
 def _actuators(data: dict, names: tuple[str, ...]) -> dict:
     from mobman.dynamics.actuators import DCMotor, TorqueBox
 
-    table = _table(data, "actuators", "actuators")
+    table = fields.table(data, "actuators", "actuators")
     if not table:
         raise InputError(
             f"actuators: at least one [actuators.NAME] table; the actuators are {', '.join(names)}"
@@ -164,9 +179,9 @@ def _actuators(data: dict, names: tuple[str, ...]) -> dict:
         if kind not in ACTUATOR_KINDS:
             raise InputError(f"{field}.kind: {kind!r} not one of {', '.join(ACTUATOR_KINDS)}")
         keys = ACTUATOR_KINDS[kind]
-        _keys(entry, field, ("kind",) + keys)
+        fields.keys(entry, field, ("kind",) + keys)
         factory = DCMotor if kind == "dc_motor" else TorqueBox
-        result[name] = _build(field, factory, **{k: _number(entry, k, field) for k in keys})
+        result[name] = fields.build(field, factory, **{k: fields.number(entry, k, field) for k in keys})
     return result
 
 
@@ -174,12 +189,12 @@ def _motion(data: dict, robot):
     """(t, q, η, description) of the motion table."""
     from mobman.control import simulate
 
-    table = _table(data, "motion", "motion")
+    table = fields.table(data, "motion", "motion")
     kind = table.get("kind")
     if kind == "korayem":
         from mobman.experiments import korayem_kinematics
 
-        _keys(table, "motion", ("kind", "case", "dt"))
+        fields.keys(table, "motion", ("kind", "case", "dt"))
         if robot.name != "korayem-planar":
             raise InputError(
                 f"motion.kind: 'korayem' needs robot.name = \"korayem-planar\", got {robot.name!r}"
@@ -188,30 +203,38 @@ def _motion(data: dict, robot):
         cases = {m.number: m for m in korayem_kinematics.models()}
         if case not in cases:
             raise InputError(f"motion.case: 1 (extra task α, β) or 2 (extra task F), got {case!r}")
-        dt = _number(table, "dt", "motion", 0.01, positive=True)
+        dt = fields.number(table, "dt", "motion", 0.01, positive=True)
         if dt > 0.1:
             raise InputError(f"motion.dt: at most 0.1 s (the motion lasts 2 s), got {dt}")
         run = korayem_kinematics.run_model(robot, cases[case], dt)
         return run.t, run.q, run.eta, f"Korayem case {case}, dt = {dt} s"
     if kind == "control":
-        _keys(table, "motion", ("kind", "control"))
-        control = _table(table, "control", "motion.control")
+        fields.keys(table, "motion", ("kind", "control"))
+        control = fields.table(table, "control", "motion.control")
         if "robot" in control:
             raise InputError("motion.control.robot: the robot is the top-level [robot]")
         try:
             spec = parse_control({**control, "robot": data["robot"]})
         except InputError as exc:
             raise InputError(f"motion.control: {exc}") from None
-        run = simulate(spec.robot, spec.task, spec.law, spec.reference, spec.q0, spec.duration, spec.dt,
-                       integrator=spec.integrator)
+        run = simulate(
+            spec.robot,
+            spec.task,
+            spec.law,
+            spec.reference,
+            spec.q0,
+            spec.duration,
+            spec.dt,
+            integrator=spec.integrator,
+        )
         return run.t, run.q, run.eta, f"control simulation, {spec.duration} s, dt = {spec.dt} s"
     raise InputError(f"motion.kind: {kind!r} not one of korayem, control")
 
 
 def parse(data: dict) -> LoadSpec:
     """Build a :class:`LoadSpec` from a TOML document already read into a dict (the motion is simulated)."""
-    _keys(data, "spec", TOP_KEYS)
-    robot = _robot(data)
+    fields.keys(data, "spec", TOP_KEYS)
+    robot = fields.robot(data)
     model = _inertials(data, robot)
     actuators = _actuators(data, model.actuator_names)
     t, q, eta, motion = _motion(data, model.robot)
@@ -220,22 +243,17 @@ def parse(data: dict) -> LoadSpec:
 
 def load(path: Path) -> LoadSpec:
     """Read, parse and simulate a load-capacity specification."""
-    try:
-        with open(path, "rb") as handle:
-            data = tomllib.load(handle)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path}: invalid TOML ({exc})") from None
-    return parse(data)
+    return parse(fields.read_toml(path))
 
 
 @app.command("load-capacity")
 def load_capacity_command(
-    spec_path: Path = typer.Argument(..., metavar="SPEC.toml",
-                                     help="TOML specification (docs/load_capacity.md)."),
-    out: Path | None = typer.Option(None, "--out",
-                                    help="Write results.json and torques.png into this folder."),
+    spec_path: Path = typer.Argument(
+        ..., metavar="SPEC.toml", help="TOML specification (docs/load_capacity.md)."
+    ),
+    out: Path | None = typer.Option(
+        None, "--out", help="Write results.json and torques.png into this folder."
+    ),
     json_output: bool = typer.Option(False, "--json", help="Print the result as one JSON object."),
 ) -> None:
     """Maximum payload mass keeping every actuator inside its torque–speed envelope along the motion."""
@@ -244,31 +262,49 @@ def load_capacity_command(
     spec = load(spec_path)
     eta_dot = eta_dot_from_samples(spec.t, spec.eta)
     result = max_load(spec.model, spec.t, spec.q, spec.eta, eta_dot, spec.actuators)
-    summary = {"spec": str(spec_path), "robot": spec.model.robot.name, "motion": spec.motion,
-               **result.summary()}
+    summary = {
+        "spec": str(spec_path),
+        "robot": spec.model.robot.name,
+        "motion": spec.motion,
+        **result.summary(),
+    }
     if out is not None:
         from mobman.experiments.korayem_load import torque_figure
 
         out.mkdir(parents=True, exist_ok=True)
-        series = {"t": result.t, "tau0": result.tau0, "tau1": result.tau1, "speed": result.speed,
-                  "lower": result.lower, "upper": result.upper, "actuators": list(result.names)}
+        series = {
+            "t": result.t,
+            "tau0": result.tau0,
+            "tau1": result.tau1,
+            "speed": result.speed,
+            "lower": result.lower,
+            "upper": result.upper,
+            "actuators": list(result.names),
+        }
         (out / "results.json").write_text(dump_json({**summary, "series": series}))
         title = f"{spec_path.name}: required torques vs envelopes"
         torque_figure(result, title).savefig(out / "torques.png", dpi=120)
     if json_output:
         typer.echo(dump_json(summary))
         return
-    load_text = (f"{result.max_load:.4f} kg" if result.bounded
-                 else "unbounded (no limited actuator depends on the load)")
+    load_text = (
+        f"{result.max_load:.4f} kg"
+        if result.bounded
+        else "unbounded (no limited actuator depends on the load)"
+    )
     table = Table(title=f"{spec_path.name}: {spec.model.robot.name}, {spec.motion}")
     table.add_column("actuator")
     table.add_column("max load (kg)", justify="right")
     table.add_column("at t (s)", justify="right")
     for name, entry in summary["per_actuator"].items():
         limited = name in spec.actuators
-        table.add_row(name, "unlimited" if not limited else ("—" if entry["max_load_kg"] is None
-                                                             else f"{entry['max_load_kg']:.4f}"),
-                      "" if entry["time"] is None else f"{entry['time']:.4f}")
+        table.add_row(
+            name,
+            "unlimited"
+            if not limited
+            else ("—" if entry["max_load_kg"] is None else f"{entry['max_load_kg']:.4f}"),
+            "" if entry["time"] is None else f"{entry['time']:.4f}",
+        )
     console = Console()
     console.print(table)
     console.print(f"maximum allowable load: {load_text}")
