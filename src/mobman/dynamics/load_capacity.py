@@ -20,10 +20,8 @@ and time are ``None``. When even m = 0 leaves an envelope, :class:`InfeasibleMot
 the time and the torques. Entries |τ1| ≤ 1e-9 (1 + max|τ0| + max|τ1|) are treated as zero (round-off of (1)).
 
 How τ0 and τ1 are computed (one compiled, vectorised evaluation over the samples, no loop over time):
-τ0 = B⁻¹ Sᵀ (M q̈ + c + g) of the model without payload, with c + g from Lagrange's equations using only the
-directional derivative Ṁ q̇ (one jvp; the Christoffel form of :mod:`mobman.dynamics.equations` needs the whole
-∂M/∂q and is several times slower along a long trajectory); τ1 = B⁻¹ Sᵀ Q₁ with Q₁ the Newton–Euler
-generalized force of a 1-kg payload. Both are checked against the reduced inverse dynamics of
+τ0 = B⁻¹ Sᵀ (M q̈ + c + g) of the model without payload (:mod:`mobman.dynamics.equations`); τ1 = B⁻¹ Sᵀ Q₁
+with Q₁ the Newton–Euler generalized force of a 1-kg payload. Both are checked against the reduced inverse dynamics of
 :mod:`mobman.dynamics.reduced` in the tests.
 """
 
@@ -137,20 +135,6 @@ def _unit_payload_force(model: DynamicModel, q, q_dot, q_ddot):
     return lin.T @ (a - jnp.asarray(model.gravity)) + ang.T @ moment
 
 
-def _trajectory_force(model: DynamicModel, q, q_dot, q_ddot):
-    """M q̈ + c + g along a motion by Lagrange's equations with directional derivatives only:
-
-        M q̈ + Ṁ q̇ − ∂/∂q (½ q̇ᵀ M q̇ − V),   Ṁ q̇ by one forward-mode jvp of M in the direction q̇,
-
-    equal to ``equations.bias_one`` (Christoffel form, which needs the whole ∂M/∂q) but several times cheaper
-    per sample; ``test_load_capacity`` checks the two against each other.
-    """
-    mass = partial(eq.mass_matrix_one, model)
-    m, m_dot = jax.jvp(mass, (q,), (q_dot,))
-    lagrangian_q = jax.grad(lambda x: 0.5 * q_dot @ mass(x) @ q_dot - eq.potential_energy_one(model, x))(q)
-    return m @ q_ddot + m_dot @ q_dot - lagrangian_q
-
-
 def _affine_one(model: DynamicModel, q, eta, eta_dot):
     """(τ0, τ1, ω) at one sample; ``model`` carries the unit-mass payload.
 
@@ -162,8 +146,9 @@ def _affine_one(model: DynamicModel, q, eta, eta_dot):
     b_mat = reduced.input_matrix_one(model, q)
     q_dot = s @ eta
     q_ddot = s @ eta_dot + reduced.s_dot_eta(model, q, eta)
-    forces = jnp.stack([_trajectory_force(model.with_payload(None), q, q_dot, q_ddot),
-                        _unit_payload_force(model, q, q_dot, q_ddot)], axis=1)
+    unloaded = model.with_payload(None)
+    applied = eq.mass_matrix_one(unloaded, q) @ q_ddot + eq.bias_one(unloaded, q, q_dot)
+    forces = jnp.stack([applied, _unit_payload_force(model, q, q_dot, q_ddot)], axis=1)
     tau = jnp.linalg.solve(b_mat, s.T @ forces)
     return tau[:, 0], tau[:, 1], b_mat.T @ eta
 
