@@ -20,6 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman import checks
 from mobman.control._tree import pytree
 from mobman.errors import ModelError
 
@@ -33,16 +34,6 @@ def _vector(value, name: str, owner: str, size: int | None = None) -> np.ndarray
     if not np.all(np.isfinite(arr)):
         raise ModelError(f"{owner}: {name} must be finite, got {value!r}")
     return arr
-
-
-def _positive(value, name: str, owner: str) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{owner}: {name} must be a number > 0, got {value!r}") from None
-    if not (np.isfinite(value) and value > 0):
-        raise ModelError(f"{owner}: {name} must be a finite number > 0, got {value!r}")
-    return value
 
 
 def _check_timing(timing: str, owner: str) -> None:
@@ -89,7 +80,7 @@ class Line(Reference):
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _vector(self.start, "start", "Line"))
         object.__setattr__(self, "end", _vector(self.end, "end", "Line", len(self.start)))
-        object.__setattr__(self, "duration", np.float64(_positive(self.duration, "duration", "Line")))
+        object.__setattr__(self, "duration", np.float64(checks.positive(self.duration, "duration", "Line")))
         _check_timing(self.timing, "Line")
 
     @property
@@ -130,7 +121,7 @@ class Ellipse(Reference):
         if min(axes) <= 0:
             raise ModelError(f"Ellipse: semi_axes must be > 0 m, got {axes}")
         object.__setattr__(self, "semi_axes", axes)
-        object.__setattr__(self, "period", np.float64(_positive(self.period, "period", "Ellipse")))
+        object.__setattr__(self, "period", np.float64(checks.positive(self.period, "period", "Ellipse")))
         object.__setattr__(self, "phase", _vector(self.phase, "phase", "Ellipse", 1)[0])
         object.__setattr__(self, "rotation", _vector(self.rotation, "rotation", "Ellipse", 1)[0])
         if self.angle is not None:
@@ -174,7 +165,7 @@ class Polyline(Reference):
             raise ModelError("Polyline: points must be finite")
         durations = _vector(self.durations, "durations", "Polyline", pts.shape[0] - 1)
         for d in durations:
-            _positive(d, "durations", "Polyline")
+            checks.positive(d, "durations", "Polyline")
         _check_timing(self.timing, "Polyline")
         object.__setattr__(self, "points", pts)
         object.__setattr__(self, "durations", durations)

@@ -25,24 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mobman import checks
 from mobman.errors import InputError, ModelError
-
-
-def _finite(value, name: str, owner: str) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{owner}: {name} must be a number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ModelError(f"{owner}: {name} must be finite, got {value!r}")
-    return value
-
-
-def _positive(value, name: str, owner: str) -> float:
-    value = _finite(value, name, owner)
-    if value <= 0:
-        raise ModelError(f"{owner}: {name} must be a finite number > 0, got {value!r}")
-    return value
 
 
 class _AffineEnvelope:
@@ -67,8 +51,8 @@ class TorqueBox(_AffineEnvelope):
     upper: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "lower", _finite(self.lower, "lower", "TorqueBox"))
-        object.__setattr__(self, "upper", _finite(self.upper, "upper", "TorqueBox"))
+        object.__setattr__(self, "lower", checks.finite(self.lower, "lower", "TorqueBox"))
+        object.__setattr__(self, "upper", checks.finite(self.upper, "upper", "TorqueBox"))
         if not self.lower < self.upper:
             raise ModelError(
                 f"TorqueBox: lower must be < upper, got lower = {self.lower!r}, upper = {self.upper!r}"
@@ -77,7 +61,7 @@ class TorqueBox(_AffineEnvelope):
     @classmethod
     def symmetric(cls, limit: float) -> "TorqueBox":
         """|τ| ≤ limit (limit > 0)."""
-        limit = _positive(limit, "limit", "TorqueBox")
+        limit = checks.positive(limit, "limit", "TorqueBox")
         return cls(-limit, limit)
 
     def coefficients(self) -> tuple[float, float, float, float]:
@@ -97,8 +81,8 @@ class DCMotor(_AffineEnvelope):
     no_load_speed: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "stall_torque", _positive(self.stall_torque, "stall_torque", "DCMotor"))
-        object.__setattr__(self, "no_load_speed", _positive(self.no_load_speed, "no_load_speed", "DCMotor"))
+        object.__setattr__(self, "stall_torque", checks.positive(self.stall_torque, "stall_torque", "DCMotor"))
+        object.__setattr__(self, "no_load_speed", checks.positive(self.no_load_speed, "no_load_speed", "DCMotor"))
 
     @property
     def k1(self) -> float:

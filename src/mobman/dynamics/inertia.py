@@ -15,46 +15,22 @@ the allowed range.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mobman import checks
 from mobman.errors import ModelError
 from mobman.model.arm import LinkInertial
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 
 
-def _finite(value, name: str, owner: str) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{owner}: {name} must be a number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ModelError(f"{owner}: {name} must be finite, got {value!r}")
-    return value
-
-
-def _positive(value, name: str, owner: str) -> float:
-    value = _finite(value, name, owner)
-    if value <= 0:
-        raise ModelError(f"{owner}: {name} must be > 0, got {value!r}")
-    return value
-
-
-def _non_negative(value, name: str, owner: str) -> float:
-    value = _finite(value, name, owner)
-    if value < 0:
-        raise ModelError(f"{owner}: {name} must be ≥ 0, got {value!r}")
-    return value
-
-
 def _vector3(value, name: str, owner: str) -> tuple[float, float, float]:
     values = tuple(np.ravel(np.asarray(value, dtype=object)))
     if len(values) != 3:
         raise ModelError(f"{owner}: {name} must be 3 numbers, got {value!r}")
-    return tuple(_finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
+    return tuple(checks.finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
 
 
 def _inertia_tensor(value, name: str, owner: str) -> tuple[float, ...]:
@@ -90,8 +66,8 @@ class PlatformBody:
     com: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", _positive(self.mass, "mass", "PlatformBody"))
-        object.__setattr__(self, "inertia_z", _non_negative(self.inertia_z, "inertia_z", "PlatformBody"))
+        object.__setattr__(self, "mass", checks.positive(self.mass, "mass", "PlatformBody"))
+        object.__setattr__(self, "inertia_z", checks.non_negative(self.inertia_z, "inertia_z", "PlatformBody"))
         object.__setattr__(self, "com", _vector3(self.com, "com", "PlatformBody"))
 
 
@@ -108,9 +84,9 @@ class Wheel:
     I_m: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", _non_negative(self.mass, "mass", "Wheel"))
-        object.__setattr__(self, "I_w", _non_negative(self.I_w, "I_w", "Wheel"))
-        object.__setattr__(self, "I_m", _non_negative(self.I_m, "I_m", "Wheel"))
+        object.__setattr__(self, "mass", checks.non_negative(self.mass, "mass", "Wheel"))
+        object.__setattr__(self, "I_w", checks.non_negative(self.I_w, "I_w", "Wheel"))
+        object.__setattr__(self, "I_m", checks.non_negative(self.I_m, "I_m", "Wheel"))
 
 
 @dataclass(frozen=True)
@@ -127,7 +103,7 @@ class Payload:
     arm: int = 0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", _non_negative(self.mass, "mass", "Payload"))
+        object.__setattr__(self, "mass", checks.non_negative(self.mass, "mass", "Payload"))
         object.__setattr__(self, "inertia", _inertia_tensor(self.inertia, "inertia", "Payload"))
         object.__setattr__(self, "com", _vector3(self.com, "com", "Payload"))
         if not isinstance(self.arm, (int, np.integer)) or self.arm < 0:

@@ -11,6 +11,7 @@ from typing import Callable
 
 import jax.numpy as jnp
 
+from mobman import checks
 from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
@@ -24,14 +25,12 @@ _LIFT = (0.0, -1.0, 0.0)  # rotating about −y lifts the x axis: positive angle
 
 def _check_lengths(owner: str, **lengths: float) -> None:
     for name, value in lengths.items():
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise ModelError(f"{owner}: {name} must be a finite length > 0 m, got {value!r}")
+        checks.positive(value, name, owner)
 
 
 def _check_finite(owner: str, **values: float) -> None:
     for name, value in values.items():
-        if not (isinstance(value, (int, float)) and math.isfinite(value)):
-            raise ModelError(f"{owner}: {name} must be a finite number, got {value!r}")
+        checks.finite(value, name, owner)
 
 
 def _translation(x: float = 0.0, y: float = 0.0, z: float = 0.0):
