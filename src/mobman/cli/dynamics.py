@@ -94,7 +94,6 @@ def _vector(table: dict, key: str, field: str, size: tuple[int, ...], default=No
 def _inertials(data: dict, robot):
     """Platform body, wheel, link inertials attached to the robot, payload."""
     from mobman import dynamics as dyn
-    from mobman.dynamics.load_capacity import with_link_inertials
     from mobman.model.arm import LinkInertial
 
     platform = fields.table(data, "platform", "platform")
@@ -138,7 +137,7 @@ def _inertials(data: dict, robot):
             raise InputError(
                 f"links: arm {arm} has {n} links ({joints}), got {len(inertials)} [[links]] entries"
             )
-        robot = with_link_inertials(robot, inertials, arm)
+        robot = robot.with_link_inertials(inertials, arm)
     payload = dyn.Payload(1.0)
     payload_table = fields.table(data, "payload", "payload", required=False)
     if payload_table is not None:

@@ -281,23 +281,7 @@ def _result(names, t, tau0, tau1, speed, lower, upper, load, index, profile, mar
     )
 
 
-def with_link_inertials(
-    robot: MobileManipulator, inertials: Sequence[LinkInertial], arm: int = 0
-) -> MobileManipulator:
-    """``robot`` with the links of arm ``arm`` given the inertials ``inertials`` (one per joint)."""
-    if not 0 <= arm < len(robot.arms):
-        raise InputError(f"arm must be in 0..{len(robot.arms) - 1}, got {arm}")
-    chain = robot.arms[arm]
-    if len(inertials) != chain.n_joints:
-        raise InputError(
-            f"inertials: arm {arm} ({chain.name}) has {chain.n_joints} links, got {len(inertials)}"
-        )
-    joints = tuple(replace(j, inertial=inertial) for j, inertial in zip(chain.joints, inertials))
-    arms = robot.arms[:arm] + (replace(chain, joints=joints),) + robot.arms[arm + 1:]
-    return replace(robot, arms=arms)
-
-
 __all__ = [
     "InfeasibleMotionError", "LoadCapacity", "ZERO_TOLERANCE", "capacity_from_torques",
-    "eta_dot_from_samples", "load_torques", "max_load", "unit_payload_model", "with_link_inertials",
+    "eta_dot_from_samples", "load_torques", "max_load", "unit_payload_model",
 ]

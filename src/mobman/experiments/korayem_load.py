@@ -29,7 +29,6 @@ from mobman.dynamics.load_capacity import (
     capacity_from_torques,
     eta_dot_from_samples,
     max_load,
-    with_link_inertials,
 )
 from mobman.experiments import korayem_kinematics as kinematics
 from mobman.experiments.report import Reproduction
@@ -82,7 +81,7 @@ def dynamic_model() -> dyn.DynamicModel:
     links = [LinkInertial(p["link_mass_kg"], (length / 2, 0.0, 0.0), (0.0, inertia, inertia))
              for length in (p["l1_m"], p["l2_m"])]
     return dyn.DynamicModel(
-        with_link_inertials(robot, links),
+        robot.with_link_inertials(links),
         dyn.PlatformBody(p["platform_mass_kg"], p["platform_inertia_z_kg_m2"]),
         dyn.Wheel(p["wheel_mass_kg"], p["wheel_I_w_kg_m2"], p["wheel_I_m_kg_m2"]),
         payload=dyn.Payload(1.0),

@@ -9,7 +9,8 @@ S(q) = diag(S_p(q_p), I). The model is an immutable, hashable dataclass: it can 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import jax.numpy as jnp
@@ -17,7 +18,7 @@ import numpy as np
 
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
-from mobman.model.arm import Arm
+from mobman.model.arm import Arm, LinkInertial
 from mobman.model.platform import Platform
 from mobman.model.spatial import Transform
 
@@ -160,6 +161,17 @@ class MobileManipulator:
     def with_task(self, task: "Task") -> "MobileManipulator":
         """The same robot with another operational task."""
         return MobileManipulator(self.platform, self.arms, self.mounts, task, self.name, self.parameters)
+
+    def with_link_inertials(self, inertials: "Sequence[LinkInertial]", arm: int = 0) -> "MobileManipulator":
+        """The same robot with the links of arm ``arm`` given ``inertials`` (one per joint), for the dynamics."""
+        if not (isinstance(arm, int) and 0 <= arm < len(self.arms)):
+            raise InputError(f"{self.name}: arm must be in 0..{len(self.arms) - 1}, got {arm!r}")
+        chain = self.arms[arm]
+        if len(inertials) != chain.n_joints:
+            raise InputError(f"inertials: arm {arm} ({chain.name}) has {chain.n_joints} links, got {len(inertials)}")
+        joints = tuple(replace(j, inertial=inertial) for j, inertial in zip(chain.joints, inertials, strict=True))
+        arms = self.arms[:arm] + (replace(chain, joints=joints),) + self.arms[arm + 1 :]
+        return replace(self, arms=arms)
 
     def validate_q(self, q) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values."""
