@@ -26,6 +26,8 @@ from mobman.control import criteria, laws, references, simulate
 from mobman.model import robots
 from mobman.model.task import Position
 
+from timing import best_time
+
 L1 = L2 = 0.5
 W, K = 1.0, 0.5
 DT = 0.01
@@ -103,15 +105,6 @@ def setup():
 
 def run(robot, task, law, ref, q0, n: int):
     return simulate(robot, task, law, ref, q0, (n - 1) * DT, DT, integrator="rk4")
-
-
-def best_time(fn, repeat: int) -> float:
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        jax.block_until_ready(fn())
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def main(argv=None) -> None:

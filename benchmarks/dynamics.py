@@ -26,6 +26,8 @@ from mobman.dynamics import reduced
 from mobman.dynamics.actuators import DCMotor, TorqueBox
 from mobman.dynamics.load_capacity import eta_dot_from_samples, max_load
 
+from timing import best_time
+
 LOAD_TARGET_S = 0.050
 
 
@@ -56,15 +58,6 @@ def trajectory(model: dyn.DynamicModel, duration: float = 2.0, rate: float = 100
     q = np.column_stack([x, y, theta, qa])
     eta = np.column_stack([v, omega, qa_dot])
     return t, q, eta, eta_dot_from_samples(t, eta)
-
-
-def best_time(fn, repeat: int) -> float:
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        jax.block_until_ready(fn())
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def main(argv=None) -> None:

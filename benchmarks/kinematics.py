@@ -23,6 +23,7 @@ from mobman import manipulability as mp
 from mobman.model import Arm, DifferentialDrive, MobileManipulator
 from mobman.model.spatial import transform
 from mobman.model.task import EulerAngles, Position, stack
+
 from timing import best_time
 
 # Franka Emika Panda, modified DH (Craig): rows (α_{i−1}, a_{i−1}, θ_i, d_i); flange 0.107 m along z.
