@@ -103,8 +103,8 @@ def setup():
     return robot, Position("xy"), law, references.Ellipse(**ELLIPSE)
 
 
-def run(robot, task, law, ref, q0, n: int):
-    return simulate(robot, task, law, ref, q0, (n - 1) * DT, DT, integrator="rk4")
+def run(robot, task, law, ref, q0, n: int, integrator: str = "rk4"):
+    return simulate(robot, task, law, ref, q0, (n - 1) * DT, DT, integrator=integrator)
 
 
 def main(argv=None) -> None:
@@ -123,6 +123,9 @@ def main(argv=None) -> None:
     res = run(robot, task, law, ref, Q0, args.steps)
     first = time.perf_counter() - t0
     t_single = best_time(lambda: run(robot, task, law, ref, Q0, args.steps).q, 3)
+    # a digital controller: η held over each step, exact arcs of the platform (one law evaluation a step)
+    run(robot, task, law, ref, Q0, args.steps, "hold")
+    t_hold = best_time(lambda: run(robot, task, law, ref, Q0, args.steps, "hold").q, 3)
 
     rng = np.random.default_rng(0)
     q0s = Q0 + rng.uniform(-0.3, 0.3, size=(args.batch, 5))
@@ -141,7 +144,8 @@ def main(argv=None) -> None:
     err_q = float(np.max(np.abs(q_np - res.q[:nb])))
 
     rows = [
-        ("compiled simulate (one lax.scan)", args.steps, t_single),
+        ("compiled simulate (one lax.scan), RK4", args.steps, t_single),
+        ("compiled simulate, zero-order hold (1 law call/step)", args.steps, t_hold),
         (f"batched simulate, {args.batch} initial configurations", args.batch * args.batch_steps, t_batch),
         ("NumPy per-step loop (pinv, FD gradient)", nb, t_numpy),
     ]

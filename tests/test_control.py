@@ -225,6 +225,32 @@ def test_integrators_have_order_four(integrator):
     assert errors[0] / errors[1] > 25  # local error O(h⁵): ratio 32
 
 
+def test_hold_integrator_moves_on_exact_arcs_at_the_held_control():
+    """Zero-order hold: over each step the platform follows the arc of constant (v, ω) from the recorded η."""
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    line = references.Line(xi0, xi0 + [0.3, -0.2], 1.0)
+    res = simulate(ROBOT, TASK, bayle(W=2.0, k=0.5), line, Q0, 1.0, 0.05, integrator="hold")
+    q, eta, h = res.q, res.eta, 0.05
+    x, y, th = q[:-1, 0], q[:-1, 1], q[:-1, 2]
+    v, w = eta[:-1, 0], eta[:-1, 1]
+    arc = np.where(np.abs(w) > 1e-12, v / np.where(np.abs(w) > 1e-12, w, 1.0), 0.0)
+    x_next = np.where(np.abs(w) > 1e-12, x + arc * (np.sin(th + w * h) - np.sin(th)), x + v * h * np.cos(th))
+    y_next = np.where(np.abs(w) > 1e-12, y - arc * (np.cos(th + w * h) - np.cos(th)), y + v * h * np.sin(th))
+    np.testing.assert_allclose(q[1:, 0], x_next, atol=1e-12)
+    np.testing.assert_allclose(q[1:, 1], y_next, atol=1e-12)
+    np.testing.assert_allclose(q[1:, 2:], q[:-1, 2:] + h * eta[:-1, 1:], atol=1e-12)
+
+
+def test_hold_integrator_converges_to_the_continuous_loop_at_first_order():
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    line = references.Line(xi0, xi0 + [0.3, -0.2], 0.8)
+    law = bayle(W=2.0, k=0.5)
+    exact = simulate(ROBOT, TASK, law, line, Q0, 0.8, 0.001, integrator="rk4").q[-1]
+    errors = [np.linalg.norm(simulate(ROBOT, TASK, law, line, Q0, 0.8, h, integrator="hold").q[-1] - exact)
+              for h in (0.04, 0.02)]
+    assert 1.7 < errors[0] / errors[1] < 2.3  # global error O(h)
+
+
 # --- closed-loop simulation ------------------------------------------------------------------------
 
 

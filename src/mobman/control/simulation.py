@@ -15,6 +15,10 @@ Integrators (``integrator=``):
     of the two arcs so that this can be checked. On the joints (an abelian group) the method is classical RK4.
 ``"rk4"`` — classical Runge–Kutta on q̇ = S(q) η, for any platform. Each stage velocity satisfies the
     constraints, but a step's chord does not exactly (the defect is O(h⁵) per step).
+``"hold"`` — a digital controller with sample time h: η = law(q_k, t_k) is held constant over the step (zero-order
+    hold) and the robot moves exactly under it — an arc of a circle for a differential drive (q_{k+1} =
+    q_k ∘ exp(h η)), one RK4 step of q̇ = S(q) η at fixed η for other platforms. One law evaluation per step
+    (the others take four); first order in h as an approximation of the continuous-time loop.
 
 The law is evaluated at the sampled configuration and at the stages; the η recorded at t_k is the one of the
 first stage (the control applied at t_k). Measures are computed after the run, batched over all samples.
@@ -37,7 +41,7 @@ from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task, stack
 
-INTEGRATORS = ("auto", "lie", "rk4")
+INTEGRATORS = ("auto", "lie", "rk4", "hold")
 _MEASURE_SUFFIX = {"w": "yoshikawa", "w2": "inverse_condition", "w5": "eccentricity"}
 _MEASURE_WHICH = ("system_normalized", "system", "arm")
 
@@ -135,6 +139,21 @@ def _step(robot, integrator, control, q, t, h):
     return q_next, q_mid, etas[0], jax.tree.map(lambda a: a[0], infos)
 
 
+def _hold(robot, q, eta, h):
+    """q after h seconds at constant η (zero-order hold): exact for a differential drive, RK4 otherwise."""
+    if isinstance(robot.platform, DifferentialDrive):
+        return _unicycle_exp(q, h * eta)
+
+    def velocity(y):
+        return robot.S(y) @ eta
+
+    k1 = velocity(q)
+    k2 = velocity(q + 0.5 * h * k1)
+    k3 = velocity(q + 0.5 * h * k2)
+    k4 = velocity(q + h * k3)
+    return q + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
 def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
     """n samples from q0 at t = k0 dt (one configuration, one law)."""
 
@@ -144,7 +163,11 @@ def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
         return eta, dict(info, xi_star=xs)
 
     def step(q, k):
-        q_next, q_mid, eta, info = _step(robot, integrator, control, q, k * dt, dt)
+        if integrator == "hold":
+            eta, info = control(q, k * dt)
+            q_next, q_mid = _hold(robot, q, eta, dt), None
+        else:
+            q_next, q_mid, eta, info = _step(robot, integrator, control, q, k * dt, dt)
         xs = info.pop("xi_star")
         if q_mid is not None:
             info["q_mid"] = q_mid
