@@ -16,8 +16,21 @@ def _run(args, capsys):
 
 
 def test_plan_json_reaches_tolerance_and_writes_figures(tmp_path, capsys):
-    main(["plan", "tchon-car-rtr", "--target", "0,0,1", "--start", "5,0,0,pi/6", "--x", "0,2,pi/4",
-          "--json", "--out", str(tmp_path)])
+    main(
+        [
+            "plan",
+            "tchon-car-rtr",
+            "--target",
+            "0,0,1",
+            "--start",
+            "5,0,0,pi/6",
+            "--x",
+            "0,2,pi/4",
+            "--json",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     report = json.loads(capsys.readouterr().out)
     assert report["converged"] and report["final_error"] <= 1e-12
     assert report["iterations"] == len(report["error_history"]) - 1

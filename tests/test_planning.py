@@ -1,4 +1,5 @@
-"""Endogenous-configuration motion planning (Tchoń, Jakubiak & Muszyński 2002): mathematics and reproduction."""
+"""Endogenous-configuration motion planning (Tchoń, Jakubiak & Muszyński 2002): mathematics and
+reproduction."""
 
 from __future__ import annotations
 
@@ -11,15 +12,17 @@ import pytest
 
 from mobman import ConvergenceError, InputError
 from mobman.experiments import tchon2002
-from mobman.planning.algorithms import Options, null_space_projector, plan, right_inverse
+from mobman.planning import integrators
+from mobman.planning.algorithms import Options, dexterity_gradient, null_space_projector, plan, right_inverse
 from mobman.planning.basis import Fourier, PiecewiseConstant
-from mobman.planning.batch import plan_batch
 from mobman.planning.endpoint import (
     PlanningSetting,
     dexterity,
     dexterity_matrix,
     endpoint,
     endpoint_jacobian,
+    extended_jacobian,
+    is_regular,
     variational,
 )
 
@@ -46,12 +49,6 @@ def z_test():
     return z
 
 
-@pytest.fixture(scope="module")
-def reproduction(tmp_path_factory):
-    out = tmp_path_factory.mktemp("tchon2002")
-    return tchon2002.run(out, quick=True), out
-
-
 @pytest.mark.parametrize("basis", [Fourier(3), PiecewiseConstant(4)])
 def test_basis_is_orthonormal(basis):
     horizon, n = 2.5, 4000
@@ -64,18 +61,29 @@ def test_basis_is_orthonormal(basis):
 def test_fourier_matches_paper_series():
     t = 0.3
     lam = np.array([0.5, -1.0, 2.0, 0.25, 3.0])
-    paper = lam[0] + math.sqrt(2) * (lam[1] * math.sin(2 * math.pi * t) + lam[2] * math.cos(2 * math.pi * t)
-                                     + lam[3] * math.sin(4 * math.pi * t) + lam[4] * math.cos(4 * math.pi * t))
+    paper = lam[0] + math.sqrt(2) * (
+        lam[1] * math.sin(2 * math.pi * t)
+        + lam[2] * math.cos(2 * math.pi * t)
+        + lam[3] * math.sin(4 * math.pi * t)
+        + lam[4] * math.cos(4 * math.pi * t)
+    )
     assert float(Fourier(2).values(jnp.asarray(t), 1.0) @ lam) == pytest.approx(paper, rel=1e-14)
 
 
-def test_endpoint_converges_with_rk4_steps(setting, z_test):
-    """RK4 is 4th order: halving h divides the error by ≈ 16; the default grid is accurate to ≪ 1e-12."""
-    ref = np.asarray(endpoint(PlanningSetting(setting.robot, steps=2 * setting.steps), z_test, Q0[0]))
-    e1 = np.abs(np.asarray(endpoint(PlanningSetting(setting.robot, steps=500), z_test, Q0[0])) - ref).max()
-    e2 = np.abs(np.asarray(endpoint(PlanningSetting(setting.robot, steps=1000), z_test, Q0[0])) - ref).max()
-    assert 12 < e1 / e2 < 20
-    assert e2 * (1000 / setting.steps) ** 4 < 1e-13
+@pytest.mark.parametrize("method, steps", [("rk4", 250), ("dop853", 8)])
+def test_endpoint_integrator_has_its_order(setting, z_test, method, steps):
+    """Halving h divides the endpoint error by ≈ 2^order (4 for RK4, 8 for DOP853); the default grid is
+    accurate to ≪ 1e-12."""
+    ref = np.asarray(endpoint(PlanningSetting(setting.robot, steps=400), z_test, Q0[0]))
+
+    def error(n):
+        return np.abs(
+            np.asarray(endpoint(PlanningSetting(setting.robot, steps=n, method=method), z_test, Q0[0])) - ref
+        ).max()
+
+    order = integrators.tableau(method).order
+    assert abs(math.log2(error(steps) / error(2 * steps)) - order) < 1.5
+    assert np.abs(np.asarray(endpoint(setting, z_test, Q0[0])) - ref).max() < 1e-13
 
 
 def test_variational_jacobian_equals_autodiff_and_finite_differences(coarse, z_test):
@@ -104,6 +112,32 @@ def test_right_inverse_and_null_space_projector(coarse, z_test):
     assert np.abs(M @ M - M).max() > 0.5
 
 
+def test_extended_pseudo_inverse_is_a_right_inverse(coarse, z_test):
+    """J J^{e#} = I_r (§3.2), J^{e#} = first r columns of J^{E#}; and J̄ J^{e#} = 0: the extension is kept."""
+    J_E = np.asarray(extended_jacobian(coarse, tchon2002.EXTENSION, z_test, Q0[0]))
+    assert J_E.shape == (5, 13)
+    np.testing.assert_allclose(J_E[:3], np.asarray(endpoint_jacobian(coarse, z_test, Q0[0])), atol=1e-14)
+    inverse, _ = right_inverse(jnp.asarray(J_E), 3)
+    np.testing.assert_allclose(
+        J_E @ np.asarray(inverse), np.vstack([np.eye(3), np.zeros((2, 3))]), atol=1e-10
+    )
+    # the extension rows are ∂(x3, q3 + x1)/∂z: x3 and x1 enter directly (D̄), q3(T) through C̄ Ξ(T)
+    assert J_E[3, 12] == 1.0 and J_E[4, 10] == 1.0
+
+
+def test_null_space_term_raises_dexterity_without_moving_the_output(coarse, z_test):
+    """Eq. (16) with w = ∇ det(J Jᵀ): the term (I − J#J) w leaves the output still to first order and
+    increases
+    the dexterity; the paper's sign (J#J − I) w would decrease it (the sign check of eq. 14)."""
+    w = np.asarray(jax.jit(dexterity_gradient(coarse))(jnp.asarray(z_test), jnp.asarray(Q0[0])))
+    J = np.asarray(endpoint_jacobian(coarse, z_test, Q0[0]))
+    term = np.asarray(null_space_projector(jnp.asarray(J))) @ w
+    np.testing.assert_allclose(J @ term, 0.0, atol=1e-10 * np.abs(w).max())
+    eps = 1e-4 / np.linalg.norm(term)
+    d = [dexterity(coarse, z_test + s * eps * term, Q0[0], parametric=True) for s in (-1.0, 0.0, 1.0)]
+    assert d[2] > d[1] > d[0]
+
+
 def test_parametric_gram_is_below_paper_dexterity_matrix(coarse, z_test):
     """J Jᵀ (finite parametrisation) ≼ 𝒟 = C𝓜Cᵀ + DDᵀ (eq. 11): Bessel's inequality for the basis span."""
     D_paper = np.asarray(dexterity_matrix(coarse, z_test, Q0[0]))
@@ -111,36 +145,7 @@ def test_parametric_gram_is_below_paper_dexterity_matrix(coarse, z_test):
     assert np.linalg.eigvalsh(D_paper - D_param).min() > -1e-10
     assert np.linalg.eigvalsh(D_paper - D_param).max() > 1e-3  # really different: the basis is truncated
     assert dexterity(coarse, z_test, Q0[0]) > dexterity(coarse, z_test, Q0[0], parametric=True) > 0
-
-
-def test_reproduction_pinv_reaches_tolerance(reproduction):
-    result, out = reproduction
-    pinv = [r for r in result.results if r["algorithm"] == "pinv"]
-    assert {r["start"] for r in pinv} == {"P", "Q", "R"}
-    for r in pinv:
-        assert r["converged"] and r["final_error"] <= 1e-12
-        assert len(r["lambda"]) == 10 and len(r["x"]) == 3
-        assert r["error_history"][-1] == r["final_error"]
-    for path in result.figures:
-        assert path.exists() and path.stat().st_size > 1000
-
-
-def test_reproduction_solutions_reach_target_on_a_finer_grid(setting, reproduction):
-    """The planned configurations solve the *continuous* problem: endpoint on twice the grid still within tol."""
-    result, _ = reproduction
-    runs = [r for r in result.results if r["algorithm"] == "pinv"]
-    z = np.stack([np.concatenate([r["lambda"], r["x"]]) for r in runs])
-    q0 = np.stack([tchon2002.start_pose(r["start"]) for r in runs])
-    fine = PlanningSetting(setting.robot, steps=2 * setting.steps)
-    err = np.linalg.norm(np.asarray(endpoint(fine, z, q0)) - tchon2002.TARGET, axis=-1)
-    assert np.all(err < 1e-12)
-
-
-def test_dexterity_positive_at_visited_configurations(reproduction):
-    result, _ = reproduction
-    for r in result.results:
-        if r["converged"]:
-            assert r["dexterity_start"] > 0 and r["dexterity_end"] > 0
+    assert is_regular(coarse, z_test, Q0[0])
 
 
 def test_small_step_error_decays_exponentially(setting):
@@ -151,25 +156,27 @@ def test_small_step_error_decays_exponentially(setting):
     """
     options = tchon2002.options("pinv", 0.01, tchon2002.QUICK_CAP)
     z0 = tchon2002.initial_configuration()
-    targets = np.asarray(endpoint(setting, np.broadcast_to(z0, (3, 13)), Q0)) + np.array([0.05, -0.05, 0.05])
-    batch = plan_batch(setting, z0, Q0, targets, options)
-    assert all(s == "max_iterations" for s in batch.status)
     theta = 0.01 * np.arange(tchon2002.QUICK_CAP + 1)
-    for errors in batch.errors:
-        predicted = errors[0] * np.exp(-theta)
-        np.testing.assert_allclose(errors, predicted, rtol=0.01)
+    for q0 in Q0[[0, 2]]:
+        target = np.asarray(endpoint(setting, z0, q0)) + np.array([0.05, -0.05, 0.05])
+        result = plan(setting, z0, q0, target, options)
+        assert result.status == "max_iterations"
+        np.testing.assert_allclose(result.thetas, theta, atol=1e-12)
+        np.testing.assert_allclose(result.errors, result.errors[0] * np.exp(-theta), rtol=0.01)
 
 
 def test_non_convergence_is_a_result_unless_asked_to_raise(setting):
+    """Steepest descent with Δθ = 0.1 from P is far from 1e-12 after the cap: a result, or
+    ConvergenceError."""
     z0 = tchon2002.initial_configuration()
-    options = Options("adjoint", 1.0, max_iterations=5)
+    options = tchon2002.options("adjoint", 0.1, tchon2002.QUICK_CAP)
     result = plan(setting, z0, Q0[0], tchon2002.TARGET, options)
     assert result.status == "max_iterations" and not result.converged
-    assert result.iterations == 5 and result.errors.shape == (6,)
+    assert result.iterations == tchon2002.QUICK_CAP and result.errors.shape == (tchon2002.QUICK_CAP + 1,)
     assert result.errors[-1] < result.errors[0]  # steepest descent decreases the error
     with pytest.raises(ConvergenceError) as info:
         plan(setting, z0, Q0[0], tchon2002.TARGET, options, raise_on_failure=True)
-    assert info.value.history.iterations == 5
+    assert info.value.history.iterations == tchon2002.QUICK_CAP
 
 
 def test_bad_input_raises_input_error(setting):

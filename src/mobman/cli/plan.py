@@ -32,7 +32,14 @@ from mobman.planning.figures import plot_convergence, plot_paths
 DEFAULT_EXTENSIONS = {"tchon-car-rtr": "q[6], q[2] + q[4]"}
 """The paper's ȳ = (x3, q3 + x1) for the car + RTR arm (q = (q1, q2, q3, q4, x1, x2, x3), 0-based)."""
 
-_FUNCTIONS = {"sin": jnp.sin, "cos": jnp.cos, "tan": jnp.tan, "atan2": jnp.arctan2, "sqrt": jnp.sqrt, "pi": math.pi}
+_FUNCTIONS = {
+    "sin": jnp.sin,
+    "cos": jnp.cos,
+    "tan": jnp.tan,
+    "atan2": jnp.arctan2,
+    "sqrt": jnp.sqrt,
+    "pi": math.pi,
+}
 
 
 def extension_task(text: str) -> FunctionTask:
@@ -48,8 +55,12 @@ def extension_task(text: str) -> FunctionTask:
             raise InputError(f"--extension: {item!r} is not an expression of q") from None
 
     def h(q):
-        return jnp.stack([jnp.asarray(eval(c, {"__builtins__": {}}, {**_FUNCTIONS, "q": q}))  # noqa: S307
-                          for c in code])
+        return jnp.stack(
+            [
+                jnp.asarray(eval(c, {"__builtins__": {}}, {**_FUNCTIONS, "q": q}))  # noqa: S307
+                for c in code
+            ]
+        )
 
     return FunctionTask(h, tuple(items))
 
@@ -64,7 +75,7 @@ def _joints(robot: MobileManipulator, text: str | None) -> np.ndarray:
     p = robot.n_q - robot.platform.n_q
     if text is not None:
         return parse_vector(text, "--x", p)
-    lower, upper = np.array(robot.position_limits[robot.platform.n_q:]).reshape(p, 2).T
+    lower, upper = np.array(robot.position_limits[robot.platform.n_q :]).reshape(p, 2).T
     return np.clip(np.zeros(p), lower, upper)
 
 
@@ -93,8 +104,9 @@ def plan_command(
     gamma: float = typer.Option(1.0, "--gamma", help="Rate γ > 0."),
     tol: float = typer.Option(1e-12, "--tol", help="Stop when ‖K − y_d‖ ≤ tol."),
     max_iterations: int = typer.Option(200, "--max-iterations", help="Iteration cap."),
-    extension: str | None = typer.Option(None, "--extension",
-                                         help="Output extension h(q) for 'extended', e.g. 'q[6], q[2]+q[4]'."),
+    extension: str | None = typer.Option(
+        None, "--extension", help="Output extension h(q) for 'extended', e.g. 'q[6], q[2]+q[4]'."
+    ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Path | None = typer.Option(None, "--out", help="Folder for the path and convergence figures."),
@@ -109,8 +121,11 @@ def plan_command(
     robot = load_robot(robot_name, params)
     setting = PlanningSetting(robot, Fourier(harmonics), horizon=horizon)
     y_d = parse_vector(target, "--target", setting.output.dim)
-    q0 = (parse_vector(start, "--start", robot.platform.n_q) if start is not None
-          else np.zeros(robot.platform.n_q))
+    q0 = (
+        parse_vector(start, "--start", robot.platform.n_q)
+        if start is not None
+        else np.zeros(robot.platform.n_q)
+    )
     z0 = initial_configuration(setting, _joints(robot, joints))
     ext = None
     if algorithm == "extended":
@@ -118,23 +133,48 @@ def plan_command(
         if text is None:
             raise InputError("--algorithm extended needs --extension (expressions of q) for this robot")
         ext = extension_task(text)
-    options = Options(algorithm, _step(step), gamma=gamma, tol=tol, max_iterations=max_iterations, extension=ext)
+    options = Options(
+        algorithm, _step(step), gamma=gamma, tol=tol, max_iterations=max_iterations, extension=ext
+    )
     result = plan(setting, z0, q0, y_d, options)
     coarse = setting.jacobian_setting
     d0, d1 = dexterity(coarse, z0, q0), dexterity(coarse, result.z, q0)
     report = {
-        "robot": robot_name, "algorithm": algorithm, "step": options.step, "horizon": horizon,
-        "harmonics": harmonics, "start": q0, "target": y_d, "status": result.status,
-        "converged": result.converged, "iterations": result.iterations, "final_error": result.final_error,
-        "dexterity_start": d0, "dexterity_end": d1, "lambda": result.lam, "x": result.x,
+        "robot": robot_name,
+        "algorithm": algorithm,
+        "step": options.step,
+        "horizon": horizon,
+        "harmonics": harmonics,
+        "start": q0,
+        "target": y_d,
+        "status": result.status,
+        "converged": result.converged,
+        "iterations": result.iterations,
+        "final_error": result.final_error,
+        "dexterity_start": d0,
+        "dexterity_end": d1,
+        "lambda": result.lam,
+        "x": result.x,
         "error_history": result.errors,
     }
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-        report["figures"] = [str(p) for p in (
-            plot_paths(setting, result.z, q0, y_d, f"{robot_name}: {algorithm}, {result.status}", out / "paths.png"),
-            plot_convergence({algorithm: result.errors}, tol, f"{robot_name}: convergence", out / "convergence.png"),
-        )]
+        report["figures"] = [
+            str(p)
+            for p in (
+                plot_paths(
+                    setting,
+                    result.z,
+                    q0,
+                    y_d,
+                    f"{robot_name}: {algorithm}, {result.status}",
+                    out / "paths.png",
+                ),
+                plot_convergence(
+                    {algorithm: result.errors}, tol, f"{robot_name}: convergence", out / "convergence.png"
+                ),
+            )
+        ]
     if json_output:
         typer.echo(dump_json(report))
         return

@@ -16,7 +16,7 @@ All loops run inside ``jax.jit`` (``lax.while_loop``) with the error history in 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import partial
 from typing import Callable, NamedTuple
 
@@ -25,8 +25,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman.errors import ConvergenceError, InputError
-from mobman.model.task import Task, stack
-from mobman.planning.endpoint import PlanningSetting, _endpoint_of, _variational
+from mobman.model.task import Task
+from mobman.planning.endpoint import PlanningSetting, _endpoint_of, _variational, output_jacobian
 
 ALGORITHMS = ("pinv", "extended", "adjoint")
 
@@ -41,12 +41,16 @@ ARMIJO = 1e-4
 
 @dataclass(frozen=True)
 class Options:
-    """Algorithm settings (hashable: a static argument of the compiled solver).
+    """Algorithm settings.
 
     algorithm: one of ``ALGORITHMS``; step: Δθ > 0 or ``"adaptive"``; gamma: the rate γ > 0; tol: stop when
     ‖K − y_d‖ ≤ tol; max_iterations: the cap (also the history buffer size); extension: the output extension
-    h(q, x) as a task (required by ``"extended"``); nullspace: w(z, q0) for the null-space term of eq. (16)
-    (``"pinv"`` only), e.g. :func:`dexterity_gradient`.
+    h(q, x) as a task (required by ``"extended"``, ignored by the others); nullspace: w(z, q0) for the
+    null-space term of eq. (16) (``"pinv"`` only), e.g. :func:`dexterity_gradient`.
+
+    Only :attr:`kernel` (extension, null-space vector, cap) shapes the compiled loop: the algorithm, the
+    step mode, Δθ, γ and the tolerance are traced arguments, so comparing the three algorithms with fixed
+    and adaptive steps compiles once.
     """
 
     algorithm: str = "pinv"
@@ -74,9 +78,29 @@ class Options:
             raise InputError("a null-space vector (nullspace=...) is only used by algorithm 'pinv'")
 
     @property
-    def static(self) -> "Options":
-        """The part that shapes the compiled loop (Δθ only through "adaptive" or not; γ, tol dropped)."""
-        return replace(self, step="adaptive" if self.step == "adaptive" else 1.0, gamma=1.0, tol=1.0)
+    def kernel(self) -> "Kernel":
+        """The static part of the compiled loop."""
+        return Kernel(self.extension, self.nullspace, self.max_iterations)
+
+    def arguments(self) -> tuple:
+        """The traced arguments of the compiled loop: algorithm index, adaptive flag, Δθ, γ, tol."""
+        adaptive = self.step == "adaptive"
+        return (
+            ALGORITHMS.index(self.algorithm),
+            adaptive,
+            0.0 if adaptive else float(self.step),
+            float(self.gamma),
+            float(self.tol),
+        )
+
+
+class Kernel(NamedTuple):
+    """What the compiled loop is specialised on (hashable): the extension task (None: degree s = 0), the
+    null-space vector field (None: no null-space term) and the iteration cap."""
+
+    extension: Task | None
+    nullspace: Callable | None
+    max_iterations: int
 
 
 class Plan(NamedTuple):
@@ -111,25 +135,36 @@ def null_space_projector(J: jnp.ndarray) -> jnp.ndarray:
     return jnp.eye(J.shape[1]) - inverse @ J
 
 
-def _direction(setting: PlanningSetting, options: Options, z, q0, y_d):
-    """e = K(z) − y_d, the Jacobian J and the θ-flow direction at z (for γ = 1), and the reciprocal condition
-    of the Gram matrix inverted. K is integrated with ``setting.steps``, J with ``setting.jacobian_steps``."""
+def _direction(setting: PlanningSetting, kernel: Kernel, algorithm, z, q0, y_d):
+    """e = K(z) − y_d, the Jacobian J, the θ-flow direction at z (for γ = 1) and the reciprocal condition of
+    the Gram matrix inverted (1 for the adjoint). K is integrated with ``setting.steps``, the variational
+    system with ``setting.jacobian_steps``; ``algorithm`` indexes ``ALGORITHMS`` (a traced ``lax.switch``)."""
     coarse = setting.jacobian_setting
-    if options.algorithm == "extended":
-        task = stack(setting.output, options.extension)
-        J_E = _variational(coarse, task, z, q0, False).J
-        r = setting.output.dim
-        e, J = _endpoint_of(setting, setting.output, z, q0) - y_d, J_E[:r]
-        inverse, rcond = right_inverse(J_E, r)
-        return e, J, -inverse @ e, rcond
-    J = _variational(coarse, setting.output, z, q0, False).J
+    v = _variational(coarse, setting.output, z, q0, False)
+    J = v.J
     e = _endpoint_of(setting, setting.output, z, q0) - y_d
-    if options.algorithm == "adjoint":
-        return e, J, -J.T @ e, jnp.ones(())
-    inverse, rcond = right_inverse(J)
-    d = -inverse @ e
-    if options.nullspace is not None:
-        d = d + (jnp.eye(z.shape[0]) - inverse @ J) @ options.nullspace(z, q0)
+    _, x = setting.split(z)
+
+    def pinv():
+        inverse, rcond = right_inverse(J)
+        d = -inverse @ e
+        if kernel.nullspace is not None:
+            d = d + (jnp.eye(z.shape[0]) - inverse @ J) @ kernel.nullspace(z, q0)
+        return d, rcond
+
+    def extended():
+        J_E = (
+            J
+            if kernel.extension is None
+            else jnp.concatenate([J, output_jacobian(coarse, kernel.extension, v.q_T, v.Xi, x)])
+        )
+        inverse, rcond = right_inverse(J_E, e.shape[0])
+        return -inverse @ e, rcond
+
+    def adjoint():
+        return -J.T @ e, jnp.ones(())
+
+    d, rcond = jax.lax.switch(algorithm, (pinv, extended, adjoint))
     return e, J, d, rcond
 
 
@@ -156,9 +191,11 @@ def _line_search(setting, z, q0, y_d, e, J, d):
 
 
 @partial(jax.jit, static_argnums=(0, 1))
-def _solve(setting: PlanningSetting, options: Options, z0, q0, y_d, step, gamma, tol) -> Plan:
-    """The compiled loop; ``options`` only contributes its static part (see :meth:`Options.static`)."""
-    size = options.max_iterations + 1
+def _solve(
+    setting: PlanningSetting, kernel: Kernel, z0, q0, y_d, algorithm, adaptive, step, gamma, tol
+) -> Plan:
+    """The compiled loop (see :meth:`Options.arguments` for the traced arguments)."""
+    size = kernel.max_iterations + 1
     nan = jnp.full(size, jnp.nan)
 
     def cond(state):
@@ -166,19 +203,24 @@ def _solve(setting: PlanningSetting, options: Options, z0, q0, y_d, step, gamma,
 
     def body(state):
         z, _, k, errors, thetas = state
-        e, J, d, rcond = _direction(setting, options, z, q0, y_d)
+        e, J, d, rcond = _direction(setting, kernel, algorithm, z, q0, y_d)
         err = jnp.linalg.norm(e)
         errors = errors.at[k].set(err)
         converged = err <= tol
-        if options.step == "adaptive":
-            alpha, ok = jax.lax.cond(converged, lambda: (jnp.zeros(()), jnp.asarray(True)),
-                                     lambda: _line_search(setting, z, q0, y_d, e, J, d))
-            dtheta = alpha / gamma
-        else:
-            dtheta, ok = step, jnp.asarray(True)
+
+        def search():
+            alpha, ok = _line_search(setting, z, q0, y_d, e, J, d)
+            return jnp.where(converged, 0.0, alpha / gamma), ok | converged
+
+        dtheta, ok = jax.lax.cond(adaptive, search, lambda: (jnp.asarray(step, float), jnp.asarray(True)))
         status = jnp.select(
-            [~jnp.isfinite(err), converged, k >= options.max_iterations,
-             (rcond < SINGULAR_RCOND) | ~jnp.all(jnp.isfinite(d)), ~ok],
+            [
+                ~jnp.isfinite(err),
+                converged,
+                k >= kernel.max_iterations,
+                (rcond < SINGULAR_RCOND) | ~jnp.all(jnp.isfinite(d)),
+                ~ok,
+            ],
             [NOT_FINITE, CONVERGED, MAX_ITERATIONS, SINGULAR, LINE_SEARCH_FAILED],
             RUNNING,
         )
@@ -195,11 +237,17 @@ def _solve(setting: PlanningSetting, options: Options, z0, q0, y_d, step, gamma,
 def solve(setting: PlanningSetting, options: Options, z0, q0, y_d) -> Plan:
     """Run one algorithm from z0 (the compiled kernel behind :func:`plan`; arrays in, :class:`Plan` out).
 
-    Δθ, γ and the tolerance are traced arguments: changing them does not recompile.
+    The algorithm, the step mode, Δθ, γ and the tolerance are traced arguments: changing them does not
+    recompile (only :attr:`Options.kernel` does).
     """
-    step = 0.0 if options.step == "adaptive" else float(options.step)
-    return _solve(setting, options.static, jnp.asarray(z0, float), jnp.asarray(q0, float),
-                  jnp.asarray(y_d, float), step, float(options.gamma), float(options.tol))
+    return _solve(
+        setting,
+        options.kernel,
+        jnp.asarray(z0, float),
+        jnp.asarray(q0, float),
+        jnp.asarray(y_d, float),
+        *options.arguments(),
+    )
 
 
 @dataclass
@@ -228,12 +276,20 @@ def to_result(setting: PlanningSetting, result: Plan) -> PlanResult:
     k = int(result.iterations)
     z = np.asarray(result.z)
     lam, x = setting.split(z)
-    return PlanResult(z, np.asarray(lam).reshape(-1), np.asarray(x), STATUS[int(result.status)], k,
-                      np.asarray(result.errors)[: k + 1], np.asarray(result.thetas)[: k + 1])
+    return PlanResult(
+        z,
+        np.asarray(lam).reshape(-1),
+        np.asarray(x),
+        STATUS[int(result.status)],
+        k,
+        np.asarray(result.errors)[: k + 1],
+        np.asarray(result.thetas)[: k + 1],
+    )
 
 
-def plan(setting: PlanningSetting, z0, q0, y_d, options: Options = Options(),
-         raise_on_failure: bool = False) -> PlanResult:
+def plan(
+    setting: PlanningSetting, z0, q0, y_d, options: Options = Options(), raise_on_failure: bool = False
+) -> PlanResult:
     """Solve K_{q0,T}(z) = y_d (eq. 4) from z0; non-convergence is a result (status) unless raise_on_failure.
 
     >>> from mobman.model.robots import tchon_car_rtr
@@ -250,14 +306,18 @@ def plan(setting: PlanningSetting, z0, q0, y_d, options: Options = Options(),
     if raise_on_failure and not result.converged:
         raise ConvergenceError(
             f"{options.algorithm} did not reach ‖e‖ ≤ {options.tol:g}: status {result.status} after "
-            f"{result.iterations} iterations, ‖e‖ = {result.final_error:.3e}", history=result)
+            f"{result.iterations} iterations, ‖e‖ = {result.final_error:.3e}",
+            history=result,
+        )
     return result
 
 
 def _check_sizes(setting: PlanningSetting, z0, q0, y_d) -> None:
-    checks = (("z0 (endogenous configuration)", z0, setting.n_z),
-              ("q0 (platform start)", q0, setting.robot.platform.n_q),
-              ("y_d (target)", y_d, setting.output.dim))
+    checks = (
+        ("z0 (endogenous configuration)", z0, setting.n_z),
+        ("q0 (platform start)", q0, setting.robot.platform.n_q),
+        ("y_d (target)", y_d, setting.output.dim),
+    )
     for name, value, size in checks:
         if value.shape[-1:] != (size,):
             raise InputError(f"{name}: expected {size} values, got {value.shape[-1] if value.ndim else 1}")
@@ -266,13 +326,14 @@ def _check_sizes(setting: PlanningSetting, z0, q0, y_d) -> None:
 
 
 def dexterity_gradient(setting: PlanningSetting, gain: float = 1.0) -> Callable:
-    """w(z, q0) = gain·∇_z det(J Jᵀ): a null-space vector that increases the (parametric) dexterity² (eq. 16)."""
+    """w(z, q0) = gain·∇_z det(J Jᵀ): a null-space vector that increases the (parametric) dexterity² (eq.
+    16)."""
 
     def w(z, q0):
         def d2(zz):
             J = _variational(setting.jacobian_setting, setting.output, zz, q0, False).J
             return jnp.linalg.det(J @ J.T)
 
-        return gain * jax.grad(d2)(z)
+        return gain * jax.jacfwd(d2)(z)  # forward mode: n_z is small and it compiles much faster
 
     return w

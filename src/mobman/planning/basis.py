@@ -31,7 +31,7 @@ class Basis:
         """φ(t), shape (size,), for one instant t ∈ [0, horizon].
 
         ``within`` is an instant inside the same integration step: at a discontinuity it selects the side
-        of the step (RK4 evaluates the end point of a step with the control of that step).
+        of the step (a Runge–Kutta step evaluates its end point with the control of that step).
         """
         raise NotImplementedError
 

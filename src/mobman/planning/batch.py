@@ -36,13 +36,22 @@ class BatchResult:
         """One problem of the batch as a :class:`PlanResult`."""
         k = int(self.iterations[index])
         lam, x = setting.split(self.z[index])
-        return PlanResult(self.z[index], np.asarray(lam).reshape(-1), np.asarray(x), self.status[index], k,
-                          self.errors[index, : k + 1], np.full(k + 1, np.nan))
+        return PlanResult(
+            self.z[index],
+            np.asarray(lam).reshape(-1),
+            np.asarray(x),
+            self.status[index],
+            k,
+            self.errors[index, : k + 1],
+            np.full(k + 1, np.nan),
+        )
 
 
 @partial(jax.jit, static_argnums=(0, 1))
-def _solve_batch(setting, static, z0, q0, y_d, step, gamma, tol):
-    return jax.vmap(lambda z, q, y: _solve(setting, static, z, q, y, step, gamma, tol))(z0, q0, y_d)
+def _solve_batch(setting, kernel, z0, q0, y_d, *arguments):
+    """vmap over problems only: the algorithm and the step mode stay unbatched, so their branches are real
+    ``lax.switch``/``lax.cond`` (only the chosen one runs)."""
+    return jax.vmap(lambda z, q, y: _solve(setting, kernel, z, q, y, *arguments))(z0, q0, y_d)
 
 
 def plan_batch(setting: PlanningSetting, z0, q0, y_d, options: Options = Options()) -> BatchResult:
@@ -52,11 +61,12 @@ def plan_batch(setting: PlanningSetting, z0, q0, y_d, options: Options = Options
     _check_sizes(setting, z0, q0, y_d)
     size = max(a.shape[0] if a.ndim == 2 else 1 for a in (z0, q0, y_d))
     z0, q0, y_d = (np.broadcast_to(a, (size, a.shape[-1])) for a in (z0, q0, y_d))
-    step = 0.0 if options.step == "adaptive" else float(options.step)
-    out = _solve_batch(setting, options.static, jnp.asarray(z0), jnp.asarray(q0), jnp.asarray(y_d),
-                       step, float(options.gamma), float(options.tol))
+    out = _solve_batch(
+        setting, options.kernel, jnp.asarray(z0), jnp.asarray(q0), jnp.asarray(y_d), *options.arguments()
+    )
     iterations = np.asarray(out.iterations)
     errors = np.asarray(out.errors)
     final = errors[np.arange(size), iterations]
-    return BatchResult(np.asarray(out.z), [STATUS[int(s)] for s in np.asarray(out.status)], iterations, final,
-                       errors)
+    return BatchResult(
+        np.asarray(out.z), [STATUS[int(s)] for s in np.asarray(out.status)], iterations, final, errors
+    )

@@ -6,7 +6,9 @@ the arm coordinates x stay constant over [0, T]. The output is the robot's task 
 ``K = kinematics.forward(robot, [q_p(T), x])`` (eq. 3). An endogenous configuration is the flat vector
 z = (vec Λ, x) ∈ R^{m·N + p}: u1's N coefficients, then u2's, …, then the joint positions.
 
-Integration is fixed-step RK4 in a ``lax.scan``. The Jacobian is computed two ways:
+Integration is a fixed-step explicit Runge–Kutta scheme (:mod:`~mobman.planning.integrators`: DOP853 of order
+8
+by default, or RK4) in a ``lax.scan``. The Jacobian is computed two ways:
 
 - :func:`variational` integrates, together with q_p, the variational system (eqs. 5–7) driven by the basis
   functions: Ξ̇ = A(t) Ξ + B(t) (I_m ⊗ φ(t)ᵀ), Ξ(0) = 0, with A = ∂(S_p(q_p) u)/∂q_p and B = S_p(q_p), so that
@@ -32,23 +34,28 @@ import numpy as np
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
+from mobman.planning import integrators
 from mobman.planning.basis import Basis, Fourier
 
-DEFAULT_STEPS = 8000
-"""RK4 steps over [0, T] for the endpoint map (discretisation error ≈ 1e-13 at the §4 solutions, see
+DEFAULT_METHOD = "dop853"
+DEFAULT_STEPS = 100
+"""DOP853 steps over [0, T] for the endpoint map (discretisation error ≲ 1e-14 at the §4 solutions, see
 docs/planning.md for the convergence study behind this value)."""
-DEFAULT_JACOBIAN_STEPS = 400
-"""RK4 steps of the variational system inside the planners (relative Jacobian error ≈ 1e-9: an inexact
-Newton step whose contraction factor is that small, so the planners still converge to 1e-12)."""
+DEFAULT_JACOBIAN_STEPS = 40
+"""DOP853 steps of the variational system inside the planners (relative Jacobian error ≤ 1e-4 at the §4 end
+points: an inexact Newton step whose contraction factor is about that small, so the planners still converge
+to 1e-12; the tolerance is checked on K with ``steps``)."""
 
 
 @dataclass(frozen=True)
 class PlanningSetting:
-    """What stays fixed while planning: the robot, its task, the control basis, the horizon T, the RK4 steps.
+    """What stays fixed while planning: the robot, its task, the control basis, the horizon T, the integrator.
 
     Hashable, so the compiled functions take it as a static argument; the start q_p(0) is a dynamic argument
-    (a batch of starts is one call). ``steps`` discretises the endpoint map K (what the planners drive to the
-    tolerance); ``jacobian_steps`` the variational system the planners use for their directions.
+    (a batch of starts is one call). ``method`` is a Runge–Kutta scheme of
+    :mod:`~mobman.planning.integrators`;
+    ``steps`` discretises the endpoint map K (what the planners drive to the tolerance); ``jacobian_steps``
+    the variational system the planners use for their directions.
     """
 
     robot: MobileManipulator
@@ -57,8 +64,10 @@ class PlanningSetting:
     steps: int = DEFAULT_STEPS
     task: Task | None = None
     jacobian_steps: int = DEFAULT_JACOBIAN_STEPS
+    method: str = DEFAULT_METHOD
 
     def __post_init__(self) -> None:
+        integrators.tableau(self.method)
         if not (isinstance(self.horizon, (int, float)) and np.isfinite(self.horizon) and self.horizon > 0):
             raise InputError(f"horizon T must be a finite number > 0, got {self.horizon!r}")
         for name in ("steps", "jacobian_steps"):
@@ -107,7 +116,8 @@ class PlanningSetting:
 
 
 class Variational(NamedTuple):
-    """Endpoint y = K(z), Jacobian J (r × n_z), C = ∂k/∂q_p, D = ∂k/∂x at q(T), Ξ(T), mobility 𝓜 (or None)."""
+    """Endpoint y = K(z), Jacobian J (r × n_z), C = ∂k/∂q_p, D = ∂k/∂x at q(T), Ξ(T), mobility 𝓜 (or None),
+    and the platform state q_p(T)."""
 
     y: jnp.ndarray
     J: jnp.ndarray
@@ -115,6 +125,23 @@ class Variational(NamedTuple):
     D: jnp.ndarray
     Xi: jnp.ndarray
     mobility: jnp.ndarray | None
+    q_T: jnp.ndarray
+
+
+def _output_derivatives(setting: PlanningSetting, task: Task, q_T, x) -> tuple[jnp.ndarray, jnp.ndarray]:
+    """C = ∂task/∂q_p and D = ∂task/∂x at (q_p(T), x) (eq. 6; C̄, D̄ of eq. 19 for an extension h)."""
+    C = jax.jacfwd(lambda q: _output(setting, task, q, x))(q_T)
+    D = jax.jacfwd(lambda xx: _output(setting, task, q_T, xx))(x)
+    return C, D
+
+
+def output_jacobian(
+    setting: PlanningSetting, task: Task, q_T: jnp.ndarray, Xi: jnp.ndarray, x: jnp.ndarray
+) -> jnp.ndarray:
+    """J = [C Ξ(T), D] (eq. 8 on the span of the basis; eq. 19's extra rows for an extension task h).
+    Ξ(T) does not depend on the task, so one variational integration serves every output."""
+    C, D = _output_derivatives(setting, task, q_T, x)
+    return jnp.concatenate([C @ Xi, D], axis=1)
 
 
 def _output(setting: PlanningSetting, task: Task, q_p: jnp.ndarray, x: jnp.ndarray) -> jnp.ndarray:
@@ -123,37 +150,45 @@ def _output(setting: PlanningSetting, task: Task, q_p: jnp.ndarray, x: jnp.ndarr
 
 
 def _basis_grid(setting: PlanningSetting) -> jnp.ndarray:
-    """φ at the start, middle and end of every RK4 step, shape (steps, 3, N), each step with its own control
-    (so a piecewise-constant basis switches exactly at step boundaries)."""
+    """φ at the stage times t_k + c_i h of every step, shape (steps, stages, N), each step with its own
+    control (so a piecewise-constant basis switches exactly at step boundaries)."""
     h = setting.horizon / setting.steps
     t = h * np.arange(setting.steps)
-    mid = t + 0.5 * h
-    stages = jnp.stack([jnp.asarray(t), jnp.asarray(mid), jnp.asarray(t + h)], axis=1)
+    stages = jnp.asarray(t[:, None] + h * integrators.nodes(setting.method)[None, :])
+    mid = jnp.asarray(t + 0.5 * h)
     return jax.vmap(lambda st, w: jax.vmap(lambda s: setting.basis.values(s, setting.horizon, w))(st))(
-        stages, jnp.asarray(mid))
+        stages, mid
+    )
 
 
-def _rk4(setting: PlanningSetting, rhs, state, record: bool = False):
-    """Fixed-step RK4 of d state/dt = rhs(state, φ) over [0, T], φ the basis values at the stage time.
+def _integrate(setting: PlanningSetting, rhs, state, record: bool = False):
+    """Fixed-step Runge–Kutta (``setting.method``) of d state/dt = rhs(state, φ) over [0, T], φ the basis
+    values at the stage time.
 
     Returns the final state, and the states after every step if ``record``.
     """
     h = setting.horizon / setting.steps
 
     def step(s, phi):
-        k1 = rhs(s, phi[0])
-        k2 = rhs(jax.tree.map(lambda a, b: a + 0.5 * h * b, s, k1), phi[1])
-        k3 = rhs(jax.tree.map(lambda a, b: a + 0.5 * h * b, s, k2), phi[1])
-        k4 = rhs(jax.tree.map(lambda a, b: a + h * b, s, k3), phi[2])
-        new = jax.tree.map(lambda a, b1, b2, b3, b4: a + h / 6 * (b1 + 2 * b2 + 2 * b3 + b4), s, k1, k2, k3, k4)
+        new = integrators.step(setting.method, rhs, s, phi, h)
         return new, (new if record else None)
 
-    return jax.lax.scan(step, state, _basis_grid(setting), unroll=2)
+    return jax.lax.scan(step, state, _basis_grid(setting))
+
+
+def _control(lam: jnp.ndarray, phi: jnp.ndarray) -> jnp.ndarray:
+    """u = Λ φ(t)."""
+    return jnp.sum(lam * phi[None, :], axis=1)
+
+
+def _velocity(setting: PlanningSetting, q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
+    """q̇_p = S_p(q_p) u (eq. 1), as a broadcast product and sum (see :func:`_matmul`)."""
+    return jnp.sum(setting.robot.platform.S(q) * u[None, :], axis=1)
 
 
 def _endpoint_of(setting: PlanningSetting, task: Task, z, q0) -> jnp.ndarray:
     lam, x = setting.split(z)
-    q_T, _ = _rk4(setting, lambda q, phi: setting.robot.platform.S(q) @ (lam @ phi), q0)
+    q_T, _ = _integrate(setting, lambda q, phi: _velocity(setting, q, _control(lam, phi)), q0)
     return _output(setting, task, q_T, x)
 
 
@@ -170,38 +205,43 @@ def endpoint(setting: PlanningSetting, z, q0) -> jnp.ndarray:
 @partial(jax.jit, static_argnums=(0,))
 def _trajectory(setting, z, q0):
     lam, x = setting.split(z)
-    _, states = _rk4(setting, lambda q, phi: setting.robot.platform.S(q) @ (lam @ phi), q0, record=True)
+    _, states = _integrate(setting, lambda q, phi: _velocity(setting, q, _control(lam, phi)), q0, record=True)
     q_p = jnp.concatenate([q0[None], states])
     y = jax.vmap(lambda q: _output(setting, setting.output, q, x))(q_p)
     return q_p, y
 
 
 def trajectory(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Times t_k, platform states q_p(t_k) and task values k(q_p(t_k), x) at the RK4 grid (for plotting)."""
+    """Times t_k, platform states q_p(t_k) and task values k(q_p(t_k), x) on the integration grid (for
+    plotting)."""
     q_p, y = _trajectory(setting, jnp.asarray(z, float), jnp.asarray(q0, float))
     return np.linspace(0.0, setting.horizon, setting.steps + 1), np.asarray(q_p), np.asarray(y)
 
 
+def _matmul(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
+    """a @ b for tiny matrices as a broadcast product and sum (fast under ``vmap`` on a CPU)."""
+    return jnp.sum(a[:, :, None] * b[None, :, :], axis=1)
+
+
 def _variational(setting: PlanningSetting, task: Task, z, q0, with_mobility: bool) -> Variational:
     lam, x = setting.split(z)
-    m, n_p = setting.n_controls, q0.shape[0]
+    n_p = q0.shape[0]
     platform = setting.robot.platform
 
     def rhs(state, phi):
         q, xi, mob = state
-        u = lam @ phi
-        A = jax.jacfwd(lambda s: platform.S(s) @ u)(q)
+        u = _control(lam, phi)
+        A = jax.jacfwd(lambda s: _velocity(setting, s, u))(q)
         B = platform.S(q)
-        d_xi = A @ xi + B @ jnp.kron(jnp.eye(m), phi[None, :])
-        d_mob = A @ mob + mob @ A.T + B @ B.T if with_mobility else mob
-        return platform.S(q) @ u, d_xi, d_mob
+        d_xi = _matmul(A, xi) + (B[:, :, None] * phi[None, None, :]).reshape(n_p, -1)  # B (I_m ⊗ φᵀ)
+        d_mob = _matmul(A, mob) + _matmul(mob, A.T) + _matmul(B, B.T) if with_mobility else mob
+        return _velocity(setting, q, u), d_xi, d_mob
 
     start = (q0, jnp.zeros((n_p, z.shape[0] - setting.n_joints)), jnp.zeros((n_p, n_p)))
-    (q_T, xi, mob), _ = _rk4(setting, rhs, start)
+    (q_T, xi, mob), _ = _integrate(setting, rhs, start)
     y = _output(setting, task, q_T, x)
-    C = jax.jacfwd(lambda q: _output(setting, task, q, x))(q_T)
-    D = jax.jacfwd(lambda xx: _output(setting, task, q_T, xx))(x)
-    return Variational(y, jnp.concatenate([C @ xi, D], axis=1), C, D, xi, mob if with_mobility else None)
+    C, D = _output_derivatives(setting, task, q_T, x)
+    return Variational(y, jnp.concatenate([C @ xi, D], axis=1), C, D, xi, mob if with_mobility else None, q_T)
 
 
 @partial(jax.jit, static_argnums=(0, 3))
@@ -227,6 +267,19 @@ def endpoint_jacobian(setting: PlanningSetting, z, q0, method: str = "variationa
     if method == "autodiff":
         return _autodiff_jacobian(setting, z, q0)
     raise InputError(f"method must be 'variational' or 'autodiff', got {method!r}")
+
+
+@partial(jax.jit, static_argnums=(0, 1))
+def _extended_jacobian(setting, extension, z, q0):
+    v = _variational(setting, setting.output, z, q0, False)
+    _, x = setting.split(z)
+    return jnp.concatenate([v.J, output_jacobian(setting, extension, v.q_T, v.Xi, x)])
+
+
+def extended_jacobian(setting: PlanningSetting, extension: Task, z, q0) -> jnp.ndarray:
+    """Extended Jacobian J^E = [J; J̄] (eq. 19), shape (r + s, n_z): the rows of the output, then those of the
+    output extension h (a task of dimension s), at z and the start q0."""
+    return _extended_jacobian(setting, extension, jnp.asarray(z, float), jnp.asarray(q0, float))
 
 
 def mobility_matrix(setting: PlanningSetting, z, q0) -> jnp.ndarray:

@@ -15,7 +15,8 @@ from mobman.planning.endpoint import PlanningSetting, trajectory  # noqa: E402
 
 
 def plot_paths(setting: PlanningSetting, z, q0, y_d, title: str, path: Path) -> Path:
-    """Platform path (q1, q2) and end-effector path (y1, y2) in the plane for the configuration z (figs. 2–4)."""
+    """Platform path (q1, q2) and end-effector path (y1, y2) in the plane for the configuration z (figs.
+    2–4)."""
     _, q_p, y = trajectory(setting, z, q0)
     fig, ax = plt.subplots(figsize=(5.5, 5))
     ax.plot(q_p[:, 0], q_p[:, 1], "-", color="tab:blue", label="platform (q1, q2)")
@@ -40,6 +41,7 @@ def plot_convergence(histories: Mapping[str, Sequence[float]], tol: float, title
         ax.plot(np.arange(errors.size), np.log10(np.maximum(errors, 1e-300)), label=label, lw=1.2)
     ax.axhline(np.log10(tol), color="k", ls=":", lw=1, label=f"tolerance {tol:g}")
     ax.set_xscale("symlog", linthresh=10)
+    ax.set_xlim(left=0)
     ax.set_xlabel("iteration")
     ax.set_ylabel("log10 ‖K − y_d‖")
     ax.set_title(title)
