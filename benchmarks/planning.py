@@ -26,14 +26,7 @@ from mobman.planning.algorithms import solve, to_result
 from mobman.planning.batch import plan_batch
 from mobman.planning.endpoint import endpoint
 
-
-def best_time(fn, repeat: int) -> float:
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        jax.block_until_ready(fn())
-        best = min(best, time.perf_counter() - t0)
-    return best
+from timing import best_time
 
 
 def random_problems(setting, n: int, sigma: float, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
