@@ -42,8 +42,10 @@ def _np_reference(t: float) -> tuple[np.ndarray, np.ndarray]:
     (cx, cy), (a, b) = ELLIPSE["center"], ELLIPSE["semi_axes"]
     rate = 2.0 * math.pi / ELLIPSE["period"]
     phi = ELLIPSE["phase"] + rate * t
-    return (np.array([cx + a * math.cos(phi), cy + b * math.sin(phi)]),
-            np.array([-a * rate * math.sin(phi), b * rate * math.cos(phi)]))
+    return (
+        np.array([cx + a * math.cos(phi), cy + b * math.sin(phi)]),
+        np.array([-a * rate * math.sin(phi), b * rate * math.cos(phi)]),
+    )
 
 
 def _np_kinematics(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -51,8 +53,12 @@ def _np_kinematics(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     x, y, th, q4, q5 = q
     elbow = np.array([L1 * math.cos(th + q4), L1 * math.sin(th + q4)])
     tip = elbow + np.array([L2 * math.cos(th + q4 + q5), L2 * math.sin(th + q4 + q5)])
-    jbar = np.array([[math.cos(th), -tip[1], -tip[1], -(tip[1] - elbow[1])],
-                     [math.sin(th), tip[0], tip[0], tip[0] - elbow[0]]])
+    jbar = np.array(
+        [
+            [math.cos(th), -tip[1], -tip[1], -(tip[1] - elbow[1])],
+            [math.sin(th), tip[0], tip[0], tip[0] - elbow[0]],
+        ]
+    )
     return np.array([x, y]) + tip, jbar
 
 
@@ -149,14 +155,18 @@ def main(argv=None) -> None:
         (f"batched simulate, {args.batch} initial configurations", args.batch * args.batch_steps, t_batch),
         ("NumPy per-step loop (pinv, FD gradient)", nb, t_numpy),
     ]
-    print(f"Bayle law + w5 gradient on bayle_planar, RK4 dt = {DT} s; device: {jax.devices()[0].platform}; "
-          f"first call (compile) {first:.1f} s")
+    print(
+        f"Bayle law + w5 gradient on bayle_planar, RK4 dt = {DT} s; device: {jax.devices()[0].platform}; "
+        f"first call (compile) {first:.1f} s"
+    )
     print(f"{'variant':52s} {'steps':>10s} {'µs/step':>10s} {'steps/s':>12s}")
     for name, n, t in rows:
         print(f"{name:52s} {n:10d} {1e6 * t / n:10.3f} {n / t:12.3e}")
     speedup = (args.steps / t_single) / (nb / t_numpy)
-    print(f"compiled / NumPy loop: {speedup:.0f}×; batched / NumPy loop: "
-          f"{(args.batch * args.batch_steps / t_batch) / (nb / t_numpy):.0f}×")
+    print(
+        f"compiled / NumPy loop: {speedup:.0f}×; batched / NumPy loop: "
+        f"{(args.batch * args.batch_steps / t_batch) / (nb / t_numpy):.0f}×"
+    )
     print(f"max |η − η_NumPy| = {err_eta:.1e} (FD gradient), max |q − q_NumPy| over {nb} steps = {err_q:.1e}")
 
 

@@ -79,8 +79,11 @@ def main(argv=None) -> None:
     rows = [
         ("reduced mass matrix P (batched)", args.n, best_time(lambda: dyn.reduced_mass_matrix(model, q), 3)),
         ("reduced bias b (batched)", args.n, best_time(lambda: dyn.reduced_bias(model, q, eta), 3)),
-        ("P, b, B at once (reduced_terms, batched)", args.n,
-         best_time(lambda: reduced.reduced_terms(model, q, eta), 3)),
+        (
+            "P, b, B at once (reduced_terms, batched)",
+            args.n,
+            best_time(lambda: reduced.reduced_terms(model, q, eta), 3),
+        ),
     ]
 
     def single():
@@ -94,24 +97,30 @@ def main(argv=None) -> None:
 
     t, q_t, eta_t, eta_dot_t = trajectory(model, rate=args.rate)
     joints = DCMotor(63.22, 3.5)
-    actuators = {name: (TorqueBox.symmetric(200.0) if name.startswith("wheel") else joints)
-                 for name in model.actuator_names}
+    actuators = {
+        name: (TorqueBox.symmetric(200.0) if name.startswith("wheel") else joints)
+        for name in model.actuator_names
+    }
     t0 = time.perf_counter()
     result = max_load(model, t, q_t, eta_t, eta_dot_t, actuators)
     first_load = time.perf_counter() - t0
     t_load = best_time(lambda: max_load(model, t, q_t, eta_t, eta_dot_t, actuators).max_load, 5)
 
-    print(f"Yamamoto & Yun dual-arm robot (n_q = {model.robot.n_q}, n_eta = {model.robot.n_eta}); device: "
-          f"{jax.devices()[0].platform}; first batched call (compile) {first:.1f} s")
+    print(
+        f"Yamamoto & Yun dual-arm robot (n_q = {model.robot.n_q}, n_eta = {model.robot.n_eta}); device: "
+        f"{jax.devices()[0].platform}; first batched call (compile) {first:.1f} s"
+    )
     print(f"{'variant':50s} {'configs':>9s} {'µs/config':>11s} {'configs/s':>12s}")
     for name, n, dt in rows:
         print(f"{name:50s} {n:9d} {1e6 * dt / n:11.3f} {n / dt:12.3e}")
     verdict = "meets" if t_load < LOAD_TARGET_S else "MISSES"
-    print(f"load capacity, {len(t)} samples ({t[-1]:.0f} s at {args.rate:.0f} Hz): "
-          f"{1e3 * t_load:.1f} ms after "
-          f"compilation (first call {first_load:.1f} s), {verdict} the {1e3 * LOAD_TARGET_S:.0f} ms target; "
-          f"max load {result.max_load:.3f} kg, limited by {result.limiting_actuator} "
-          f"at t = {result.limiting_time:.3f} s")
+    print(
+        f"load capacity, {len(t)} samples ({t[-1]:.0f} s at {args.rate:.0f} Hz): "
+        f"{1e3 * t_load:.1f} ms after "
+        f"compilation (first call {first_load:.1f} s), {verdict} the {1e3 * LOAD_TARGET_S:.0f} ms target; "
+        f"max load {result.max_load:.3f} kg, limited by {result.limiting_actuator} "
+        f"at t = {result.limiting_time:.3f} s"
+    )
 
 
 if __name__ == "__main__":

@@ -30,18 +30,34 @@ from timing import best_time
 PANDA_A = (0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088)
 PANDA_D = (0.333, 0.0, 0.316, 0.0, 0.384, 0.0, 0.0)
 PANDA_ALPHA = (0.0, -math.pi / 2, math.pi / 2, math.pi / 2, -math.pi / 2, math.pi / 2, math.pi / 2)
-PANDA_LIMITS = ((-2.8973, 2.8973), (-1.7628, 1.7628), (-2.8973, 2.8973), (-3.0718, -0.0698),
-                (-2.8973, 2.8973), (-0.0175, 3.7525), (-2.8973, 2.8973))
+PANDA_LIMITS = (
+    (-2.8973, 2.8973),
+    (-1.7628, 1.7628),
+    (-2.8973, 2.8973),
+    (-3.0718, -0.0698),
+    (-2.8973, 2.8973),
+    (-0.0175, 3.7525),
+    (-2.8973, 2.8973),
+)
 PANDA_SPEEDS = (2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61)
 
 
 def panda_on_differential_base() -> MobileManipulator:
     """Panda (7 joints) on a differential base (v_max = 1 m/s, ω_max = 1.5 rad/s), task = position + ZYX."""
     table = [(al, a, 0.0, d) for al, a, d in zip(PANDA_ALPHA, PANDA_A, PANDA_D)]
-    arm = Arm.from_modified_dh(table, tool=transform(None, (0.0, 0.0, 0.107)), limits=PANDA_LIMITS,
-                               velocity_limits=PANDA_SPEEDS, name="panda")
-    return MobileManipulator(DifferentialDrive(v_max=1.0, omega_max=1.5), (arm,),
-                             task=stack(Position("xyz"), EulerAngles("ZYX")), name="panda-diff")
+    arm = Arm.from_modified_dh(
+        table,
+        tool=transform(None, (0.0, 0.0, 0.107)),
+        limits=PANDA_LIMITS,
+        velocity_limits=PANDA_SPEEDS,
+        name="panda",
+    )
+    return MobileManipulator(
+        DifferentialDrive(v_max=1.0, omega_max=1.5),
+        (arm,),
+        task=stack(Position("xyz"), EulerAngles("ZYX")),
+        name="panda-diff",
+    )
 
 
 def random_configurations(robot: MobileManipulator, n: int, seed: int = 0) -> np.ndarray:
@@ -62,8 +78,14 @@ def _numpy_jbar(q: np.ndarray) -> np.ndarray:
     for i in range(7):
         ca, sa = math.cos(PANDA_ALPHA[i]), math.sin(PANDA_ALPHA[i])
         ct, st = math.cos(q[3 + i]), math.sin(q[3 + i])
-        t = t @ np.array([[ct, -st, 0.0, PANDA_A[i]], [st * ca, ct * ca, -sa, -sa * PANDA_D[i]],
-                          [st * sa, ct * sa, ca, ca * PANDA_D[i]], [0.0, 0.0, 0.0, 1.0]])
+        t = t @ np.array(
+            [
+                [ct, -st, 0.0, PANDA_A[i]],
+                [st * ca, ct * ca, -sa, -sa * PANDA_D[i]],
+                [st * sa, ct * sa, ca, ca * PANDA_D[i]],
+                [0.0, 0.0, 0.0, 1.0],
+            ]
+        )
         origins.append(t[:3, 3].copy())
         axes.append(t[:3, 2].copy())
     r = t[:3, :3]
@@ -144,8 +166,10 @@ def main(argv=None) -> None:
         ("single configuration, public API", args.single, t_single),
         ("NumPy per call (J̄ + np.linalg.svd)", nb, t_numpy),
     ]
-    print(f"Panda on a differential base, J̄ 6 × 9 (position + ZYX Euler rows) + w, w2, w5; device: "
-          f"{jax.devices()[0].platform}; first batched call (compile) {first:.1f} s")
+    print(
+        f"Panda on a differential base, J̄ 6 × 9 (position + ZYX Euler rows) + w, w2, w5; device: "
+        f"{jax.devices()[0].platform}; first batched call (compile) {first:.1f} s"
+    )
     print(f"{'variant':50s} {'configs':>9s} {'µs/config':>11s} {'configs/s':>12s}")
     for name, n, t in rows:
         print(f"{name:50s} {n:9d} {1e6 * t / n:11.3f} {n / t:12.3e}")

@@ -18,14 +18,40 @@ from mobman.model.task import Position
 
 QUICK_DT = 0.05
 RUN_FIELDS = {
-    "run", "criterion", "k", "max_error", "rms_error", "final_error", "graining_points", "v_initial",
-    "control_effort", "acceleration_variation", "damped_steps", "saturated_steps", "median_system_w5",
-    "fraction_system_w5_below_threshold", "max_limit_ratio", "initial_error", "sigma_min_initial",
-    "sigma_min_final", "sigma_min_min", "system_w5_min", "arm_w5_min",
+    "run",
+    "criterion",
+    "k",
+    "max_error",
+    "rms_error",
+    "final_error",
+    "graining_points",
+    "v_initial",
+    "control_effort",
+    "acceleration_variation",
+    "damped_steps",
+    "saturated_steps",
+    "median_system_w5",
+    "fraction_system_w5_below_threshold",
+    "max_limit_ratio",
+    "initial_error",
+    "sigma_min_initial",
+    "sigma_min_final",
+    "sigma_min_min",
+    "system_w5_min",
+    "arm_w5_min",
 }
 FIG6_FIELDS = {
-    "transition_x", "alpha_initial", "alpha_final", "zone_samples", "zone1_mean_system_w5", "zone1_mean_arm_w5",
-    "zone3_mean_system_w5", "zone3_mean_arm_w5", "zone3_final_arm_w5", "max_error", "graining_points",
+    "transition_x",
+    "alpha_initial",
+    "alpha_final",
+    "zone_samples",
+    "zone1_mean_system_w5",
+    "zone1_mean_arm_w5",
+    "zone3_mean_system_w5",
+    "zone3_mean_arm_w5",
+    "zone3_final_arm_w5",
+    "max_error",
+    "graining_points",
 }
 
 
@@ -82,7 +108,7 @@ def test_files_and_schema(out, results):
 def test_fig5_ellipse_is_near_a_circle_most_of_the_time(setup, fig5):
     robot, task = setup[:2]
     transient = b.SETTINGS["transient"]
-    for name, criterion, k, r in fig5:
+    for name, _criterion, k, r in fig5:
         after = r.t >= transient
         w5 = _svd_w5(robot, task, r.q)[after]
         assert np.allclose(w5, r.measures["system_w5"][after], atol=1e-6)
@@ -129,4 +155,6 @@ def test_fig6_follows_the_alpha_schedule(setup, fig6):
     # zone 3: the arm criterion takes over: the arm becomes dexterous, the whole system less so
     assert arm_w5[-1] < 0.1 and np.mean(sys_w5[zone3]) > 3 * np.mean(sys_w5[zone1])
     assert np.max(np.linalg.norm(r.error, axis=-1)) < 0.01
-    assert np.count_nonzero(np.diff(np.sign(r.eta[np.abs(r.eta[:, 0]) > 1e-3, 0])) != 0) <= 5  # smooth: few manoeuvres
+    assert (
+        np.count_nonzero(np.diff(np.sign(r.eta[np.abs(r.eta[:, 0]) > 1e-3, 0])) != 0) <= 5
+    )  # smooth: few manoeuvres

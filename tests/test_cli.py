@@ -41,6 +41,7 @@ def test_reproduce_all_writes_each_result_and_an_index(tmp_path, monkeypatch, ca
         def run(out, quick=False):
             ran.append((name, quick))
             return Reproduction(name, f"title of {name}", {"name": name}, "report text")
+
         return SimpleNamespace(run=run)
 
     monkeypatch.setattr("mobman.cli.reproduce.module", fake)
@@ -55,7 +56,11 @@ def test_reproduce_all_writes_each_result_and_an_index(tmp_path, monkeypatch, ca
 
 @pytest.mark.parametrize(
     ("argv", "needle"),
-    [(["reproduce", "no-such-paper"], "unknown reproduction"), (["analyze"], "ROBOT"), (["no-such-command"], "")],
+    [
+        (["reproduce", "no-such-paper"], "unknown reproduction"),
+        (["analyze"], "ROBOT"),
+        (["no-such-command"], ""),
+    ],
 )
 def test_bad_usage_is_one_line_and_exit_status_2(argv, needle, capsys):
     with pytest.raises(SystemExit) as exc:

@@ -26,8 +26,18 @@ def test_every_builtin_robot_in_both_output_forms(name, capsys):
     red = data["redundancy"]
     assert red["R"] == red["M"] - red["D"] and red["R_bar"] == red["delta"] - red["D_bar"]
     (result,) = data["results"]
-    for key in ("q", "xi", "J", "J_bar", "rank_J", "rank_J_bar", "singular_values", "kinematic_singular",
-                "velocity_singular", "manipulability"):
+    for key in (
+        "q",
+        "xi",
+        "J",
+        "J_bar",
+        "rank_J",
+        "rank_J_bar",
+        "singular_values",
+        "kinematic_singular",
+        "velocity_singular",
+        "manipulability",
+    ):
         assert key in result, key
     assert np.shape(result["J_bar"]) == (robot.task.dim, robot.n_eta)
     for level in ("arm", "system"):
@@ -60,7 +70,9 @@ def test_configurations_from_csv_with_header(tmp_path, capsys):
     robot = robots.bayle_planar()
     path = tmp_path / "q.csv"
     rows = np.array([[0, 0, 0, 0.3, 1.2], [1, 2, 0.5, -0.4, 0.9], [0, 0, 0, 0.1, 0.2]])
-    path.write_text(",".join(robot.coordinate_names) + "\n" + "\n".join(",".join(map(str, r)) for r in rows) + "\n")
+    path.write_text(
+        ",".join(robot.coordinate_names) + "\n" + "\n".join(",".join(map(str, r)) for r in rows) + "\n"
+    )
     data = json.loads(_run(capsys, "bayle-planar", "--q-file", str(path), "--json"))
     np.testing.assert_allclose([r["q"] for r in data["results"]], rows)
 

@@ -33,7 +33,9 @@ def _check_geometry(report: dict, expected_axes: np.ndarray, expected_form: np.n
     assert np.all(np.diff(axes) < 0)
     np.testing.assert_allclose(directions @ directions.T, np.eye(len(axes)), atol=1e-10)
     if expected_form is not None:
-        np.testing.assert_allclose(directions @ expected_form @ directions.T, np.diag(axes**2), atol=1e-8 * axes[0]**2)
+        np.testing.assert_allclose(
+            directions @ expected_form @ directions.T, np.diag(axes**2), atol=1e-8 * axes[0] ** 2
+        )
     unit_ball = math.pi ** (len(axes) / 2) / math.gamma(len(axes) / 2 + 1)
     assert math.isclose(report["volume"], unit_ball * np.prod(expected_axes), rel_tol=1e-8)
 
@@ -56,7 +58,11 @@ def test_held_object_kinematic_ellipsoid_is_corrected_eq26(capsys):
     r, b = 0.075, 0.171
     t = np.eye(8)
     t[:2, :2] = [[r / 2, r / 2], [r / (2 * b), -r / (2 * b)]]
-    jhat = np.asarray(kinematics.reduced_jacobian(robot, q, grasp_task(robot))) @ t * np.array([1 / r] * 2 + [3.14] * 6)
+    jhat = (
+        np.asarray(kinematics.reduced_jacobian(robot, q, grasp_task(robot)))
+        @ t
+        * np.array([1 / r] * 2 + [3.14] * 6)
+    )
     w = np.asarray(grasp_matrix(grasp_offsets(robot, q)))
     sigma = np.linalg.inv(w @ np.linalg.inv(jhat @ jhat.T) @ w.T)
     _check_geometry(report, np.sqrt(np.linalg.eigvalsh(sigma)[::-1]), sigma)
@@ -109,7 +115,9 @@ def test_param_changes_the_robot(capsys):
     longer = _json(["bayle-planar", "--q", q, "--param", "l2=0.8"], capsys)
     assert longer["params"]["l2"] == 0.8 and base["params"]["l2"] == 0.5
     robot = robots.bayle_planar(l2=0.8)
-    jn = np.asarray(kinematics.reduced_jacobian(robot, np.array([0, 0, 0, 1, 0.7]))) * np.array(robot.velocity_limits)
+    jn = np.asarray(kinematics.reduced_jacobian(robot, np.array([0, 0, 0, 1, 0.7]))) * np.array(
+        robot.velocity_limits
+    )
     np.testing.assert_allclose(longer["axes"], np.linalg.svd(jn, compute_uv=False), rtol=1e-8)
     assert not np.allclose(longer["axes"], base["axes"], rtol=1e-3)
 
@@ -134,8 +142,10 @@ def test_human_readable_output_lists_axes_and_volume(capsys):
         (["bayle-planar", "--q", "0,0,0,1,1", "--held"], "two or more arms"),
         (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--param", "L1=-1"], "L1"),
         (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--param", "Lx=1"], "Lx"),
-        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--held", "--object-mass", "-2"],
-         "--object-mass"),
+        (
+            ["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--held", "--object-mass", "-2"],
+            "--object-mass",
+        ),
         (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--method", "best"], "--method"),
         (["no-such-robot", "--q", "0"], "unknown robot"),
         (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--held", "--grasp", "glue"], "--grasp"),

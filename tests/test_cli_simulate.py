@@ -56,7 +56,9 @@ def test_simulate_json_and_out(tmp_path, capsys):
     metrics = json.loads(capsys.readouterr().out)
     assert metrics["max_error"] < 1e-3  # starts on the line: pure tracking
     saved = json.loads((out / "results.json").read_text())
-    assert len(saved["series"]["t"]) == 21 and saved["metrics"]["max_error"] == pytest.approx(metrics["max_error"])
+    assert len(saved["series"]["t"]) == 21 and saved["metrics"]["max_error"] == pytest.approx(
+        metrics["max_error"]
+    )
     assert (out / "paths.png").stat().st_size > 0 and (out / "timeseries.png").stat().st_size > 0
     main(["simulate", str(_spec(tmp_path, SHORT))])
     assert "graining_points" in capsys.readouterr().out
@@ -65,13 +67,13 @@ def test_simulate_json_and_out(tmp_path, capsys):
 @pytest.mark.parametrize(
     "old, new, field",
     [
-        ('period = 30.0', 'period = -1.0', "reference"),
+        ("period = 30.0", "period = -1.0", "reference"),
         ('kind = "ellipse"', 'kind = "spiral"', "reference.kind"),
         ('name = "bayle-planar"', 'name = "walle"', "robot"),
-        ('q0 = "0, 0, 0, -pi/4, pi/2"', 'q0 = [0, 0, 0]', "q0"),
-        ('W = 1.0', 'W = -1.0', "gains"),
-        ('k = 2.0', 'kk = 2.0', "gains.kk"),
-        ('dt = 0.02', 'dt = "fast"', "dt"),
+        ('q0 = "0, 0, 0, -pi/4, pi/2"', "q0 = [0, 0, 0]", "q0"),
+        ("W = 1.0", "W = -1.0", "gains"),
+        ("k = 2.0", "kk = 2.0", "gains.kk"),
+        ("dt = 0.02", 'dt = "fast"', "dt"),
         ('measure = "eccentricity"', 'measure = "beauty"', "criterion"),
         ('measures = ["system_w5", "arm_w5"]', 'measures = ["w7"]', "measures"),
         ('components = "xy"', 'components = "xyz"', "reference"),  # 2-D ellipse for a 3-D task

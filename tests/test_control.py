@@ -117,8 +117,10 @@ def test_criterion_gradients_match_finite_differences():
     )
     xs = np.array([1.0, 0.0])
     for crit in (criteria.Manipulability("yoshikawa", "arm"), blend):
-        grad = np.asarray(jax.jit(lambda qq: crit.gradient(ROBOT, qq, TASK, xs))(q))
-        values = jax.jit(jax.vmap(lambda qq: crit(ROBOT, qq, TASK, xs)))(q + 1e-6 * np.concatenate([np.eye(5), -np.eye(5)]))
+        grad = np.asarray(jax.jit(lambda qq, crit=crit: crit.gradient(ROBOT, qq, TASK, xs))(q))
+        values = jax.jit(jax.vmap(lambda qq, crit=crit: crit(ROBOT, qq, TASK, xs)))(
+            q + 1e-6 * np.concatenate([np.eye(5), -np.eye(5)])
+        )
         assert np.allclose(grad, (values[:5] - values[5:]) / 2e-6, atol=1e-6)
 
 
@@ -189,7 +191,9 @@ def test_damping_and_saturation_are_reported():
     sat, info = laws.BaylePseudoInverse(W=1.0, saturate=True)(ROBOT, TASK, q, 0.0, xs, xsd)
     assert bool(info["saturated"]) and np.allclose(sat, eta / ratio)
     # damping active when σ_min < ε: λ² = λ_max² (1 − (σ_min/ε)²)
-    damped, info = laws.BaylePseudoInverse(W=1.0, damping=0.3, damping_threshold=100.0)(ROBOT, TASK, q, 0.0, xs, xsd)
+    damped, info = laws.BaylePseudoInverse(W=1.0, damping=0.3, damping_threshold=100.0)(
+        ROBOT, TASK, q, 0.0, xs, xsd
+    )
     smin = np.linalg.svd(np.asarray(kinematics.reduced_jacobian(ROBOT, q, TASK)), compute_uv=False)[-1]
     assert float(info["sigma_min"]) == pytest.approx(smin)
     assert float(info["damping"]) == pytest.approx(0.09 * (1 - (smin / 100.0) ** 2)) and bool(info["damped"])
@@ -202,8 +206,9 @@ def test_law_errors():
     with pytest.raises(ModelError, match="damping"):
         laws.BaylePseudoInverse(W=1.0, damping=-0.1)
     with pytest.raises(ModelError, match="velocity limits"):
-        laws.BaylePseudoInverse(W=1.0, normalized=True)(robots.tchon_car_rtr(), None, jnp.zeros(7), 0.0,
-                                                          jnp.zeros(3), jnp.zeros(3))
+        laws.BaylePseudoInverse(W=1.0, normalized=True)(
+            robots.tchon_car_rtr(), None, jnp.zeros(7), 0.0, jnp.zeros(3), jnp.zeros(3)
+        )
     with pytest.raises(ModelError, match="extra"):
         laws.AugmentedJacobian(extra=None)
 
@@ -214,13 +219,15 @@ def test_law_errors():
 @pytest.mark.parametrize("integrator", ["lie", "rk4"])
 def test_integrators_have_order_four(integrator):
     def control(q, t):
-        return jnp.array([1.0 + 0.5 * jnp.sin(q[3] + t), jnp.cos(2 * t) + 0.3 * q[0], jnp.sin(q[2]), q[1] - q[4]]), {}
+        return jnp.array(
+            [1.0 + 0.5 * jnp.sin(q[3] + t), jnp.cos(2 * t) + 0.3 * q[0], jnp.sin(q[2]), q[1] - q[4]]
+        ), {}
 
     step = jax.jit(lambda q, t, h: _step(ROBOT, integrator, control, q, t, h)[0])
     q0 = jnp.array([0.1, 0.2, 0.3, 0.4, 0.5])
     errors = []
     for h in (0.2, 0.1):
-        fine = jax.lax.fori_loop(0, 64, lambda i, q: step(q, i * h / 64, h / 64), q0)
+        fine = jax.lax.fori_loop(0, 64, lambda i, q, h=h: step(q, i * h / 64, h / 64), q0)
         errors.append(float(jnp.linalg.norm(step(q0, 0.0, h) - fine)))
     assert errors[0] / errors[1] > 25  # local error O(h⁵): ratio 32
 
@@ -246,8 +253,10 @@ def test_hold_integrator_converges_to_the_continuous_loop_at_first_order():
     line = references.Line(xi0, xi0 + [0.3, -0.2], 0.8)
     law = bayle(W=2.0, k=0.5)
     exact = simulate(ROBOT, TASK, law, line, Q0, 0.8, 0.001, integrator="rk4").q[-1]
-    errors = [np.linalg.norm(simulate(ROBOT, TASK, law, line, Q0, 0.8, h, integrator="hold").q[-1] - exact)
-              for h in (0.04, 0.02)]
+    errors = [
+        np.linalg.norm(simulate(ROBOT, TASK, law, line, Q0, 0.8, h, integrator="hold").q[-1] - exact)
+        for h in (0.04, 0.02)
+    ]
     assert 1.7 < errors[0] / errors[1] < 2.3  # global error O(h)
 
 
@@ -259,7 +268,11 @@ def runs():
     """Three runs in one batched call (gains differ): tracking, pure self-motion, tracking with k = 0."""
     xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
     line = references.Line(xi0 + [0.3, -0.2], xi0 + [0.5, 0.1], DURATION)
-    batch = [bayle(W=np.array([2.0, 3.0]), k=0.5), bayle(W=np.array([1e-9, 1e-9]), k=2.0), bayle(W=2.0 * np.ones(2), k=0.0)]
+    batch = [
+        bayle(W=np.array([2.0, 3.0]), k=0.5),
+        bayle(W=np.array([1e-9, 1e-9]), k=2.0),
+        bayle(W=2.0 * np.ones(2), k=0.0),
+    ]
     track = simulate(ROBOT, TASK, batch, line, Q0, DURATION, DT, measures=("system_w5", "arm_w5"))
     still = references.Line(xi0, xi0, DURATION)
     rest = simulate(ROBOT, TASK, batch, still, Q0, DURATION, DT)
@@ -337,7 +350,9 @@ def test_measures_and_metrics(runs):
     err = np.linalg.norm(track.error[0], axis=-1)
     assert m["max_error"] == pytest.approx(err[100:].max())
     assert m["system_w5_min"] == pytest.approx(float(np.min(w5)))
-    assert m["platform_path_length"] == pytest.approx(np.sum(np.linalg.norm(np.diff(track.q[0, :, :2], axis=0), axis=1)))
+    assert m["platform_path_length"] == pytest.approx(
+        np.sum(np.linalg.norm(np.diff(track.q[0, :, :2], axis=0), axis=1))
+    )
     assert m["control_effort"] == pytest.approx(np.sum(track.eta[0] ** 2) * DT)
 
 
@@ -364,8 +379,15 @@ def test_augmented_jacobian_hits_end_points():
     # Korayem eq. 36: det [J_c; J_e; J_z] = l0 whatever the configuration
     assert np.allclose(res.info["det"], 0.4, atol=1e-12)
     with pytest.raises(ModelError, match="extra"):
-        simulate(robot, task, laws.AugmentedJacobian(extra=MountPosition("x")), references.Line((0,) * 3, (1,) * 3, 1.0),
-                 q0, 0.1, DT)
+        simulate(
+            robot,
+            task,
+            laws.AugmentedJacobian(extra=MountPosition("x")),
+            references.Line((0,) * 3, (1,) * 3, 1.0),
+            q0,
+            0.1,
+            DT,
+        )
 
 
 def test_damping_near_a_singularity():
@@ -379,7 +401,9 @@ def test_damping_near_a_singularity():
 
 
 def test_non_finite_runs_are_reported():
-    bad = references.FunctionReference(lambda t: jnp.stack([jnp.sqrt(0.02 - t), t]))  # ξ̇* infinite at t = 0.02
+    bad = references.FunctionReference(
+        lambda t: jnp.stack([jnp.sqrt(0.02 - t), t])
+    )  # ξ̇* infinite at t = 0.02
     with pytest.raises(SingularConfigurationError, match="t = 0.02 s"):
         simulate(ROBOT, TASK, laws.BaylePseudoInverse(W=2.0), bad, Q0, 0.05, DT, integrator="rk4")
 

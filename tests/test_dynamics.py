@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import mobman
-from mobman import dynamics as dyn, kinematics
+from mobman import dynamics as dyn
+from mobman import kinematics
 from mobman.model import robots, spatial
 
 R, B = 0.1, 0.25
@@ -20,19 +21,41 @@ def _arm() -> mobman.Arm:
     lift = (0.0, -1.0, 0.0)
     return mobman.Arm(
         (
-            mobman.Joint("revolute", (0.0, 0.0, 1.0), name="yaw",
-                         inertial=mobman.LinkInertial(4.0, (0.0, 0.02, 0.05), (0.03, 0.0, 0.0, 0.0, 0.04, 0.0, 0.0, 0.0, 0.02))),
-            mobman.Joint("revolute", lift, spatial.transform(None, (0.0, 0.0, 0.1)), name="shoulder",
-                         inertial=mobman.LinkInertial(3.0, (0.2, 0.0, 0.01), (0.01, 0.001, 0.0, 0.001, 0.05, 0.0, 0.0, 0.0, 0.05))),
-            mobman.Joint("revolute", lift, spatial.transform(None, (0.4, 0.0, 0.0)), name="elbow",
-                         inertial=mobman.LinkInertial(2.0, (0.15, 0.01, 0.0), (0.005, 0.0, 0.0, 0.0, 0.02, 0.0, 0.0, 0.0, 0.02))),
+            mobman.Joint(
+                "revolute",
+                (0.0, 0.0, 1.0),
+                name="yaw",
+                inertial=mobman.LinkInertial(
+                    4.0, (0.0, 0.02, 0.05), (0.03, 0.0, 0.0, 0.0, 0.04, 0.0, 0.0, 0.0, 0.02)
+                ),
+            ),
+            mobman.Joint(
+                "revolute",
+                lift,
+                spatial.transform(None, (0.0, 0.0, 0.1)),
+                name="shoulder",
+                inertial=mobman.LinkInertial(
+                    3.0, (0.2, 0.0, 0.01), (0.01, 0.001, 0.0, 0.001, 0.05, 0.0, 0.0, 0.0, 0.05)
+                ),
+            ),
+            mobman.Joint(
+                "revolute",
+                lift,
+                spatial.transform(None, (0.4, 0.0, 0.0)),
+                name="elbow",
+                inertial=mobman.LinkInertial(
+                    2.0, (0.15, 0.01, 0.0), (0.005, 0.0, 0.0, 0.0, 0.02, 0.0, 0.0, 0.0, 0.02)
+                ),
+            ),
         ),
         tool=spatial.transform(None, (0.35, 0.0, 0.0)),
     )
 
 
 def _model(wheel=WHEEL, gravity=(0.0, 0.0, -9.81)) -> dyn.DynamicModel:
-    robot = mobman.MobileManipulator(mobman.DifferentialDrive(R, B), (_arm(),), (mobman.Mount(0.2, 0.05, 0.3),))
+    robot = mobman.MobileManipulator(
+        mobman.DifferentialDrive(R, B), (_arm(),), (mobman.Mount(0.2, 0.05, 0.3),)
+    )
     body = dyn.PlatformBody(30.0, 1.5, com=(-0.05, 0.01, 0.15))
     payload = dyn.Payload(1.5, (0.002, 0.002, 0.002), com=(0.05, 0.0, 0.0))
     return dyn.DynamicModel(robot, body, wheel, payload, gravity)
@@ -80,12 +103,18 @@ def test_mdot_minus_2c_is_skew_and_c_matches_bias(states):
 def test_gravity_is_gradient_of_potential_by_finite_differences(states):
     q = states[0][0]
     h = 1e-6
-    fd = np.array([(dyn.potential_energy(MODEL, q + h * e) - dyn.potential_energy(MODEL, q - h * e)) / (2 * h)
-                   for e in np.eye(6)])
+    fd = np.array(
+        [
+            (dyn.potential_energy(MODEL, q + h * e) - dyn.potential_energy(MODEL, q - h * e)) / (2 * h)
+            for e in np.eye(6)
+        ]
+    )
     g = np.asarray(dyn.gravity_vector(MODEL, q))
     assert np.abs(g).max() > 1.0
     assert np.allclose(g, fd, atol=1e-6)
-    assert np.allclose(g[:3], 0.0, atol=1e-12)  # horizontal floor: platform motion does no work against gravity
+    assert np.allclose(
+        g[:3], 0.0, atol=1e-12
+    )  # horizontal floor: platform motion does no work against gravity
 
 
 def test_wheels_add_the_closed_form_platform_inertia(states):
@@ -116,7 +145,10 @@ def test_reduced_bias_equals_projection_of_full_equations(states):
     """b = Sᵀ (M Ṡ η + c + g) with Ṡ η by central finite differences of S along q̇ = S η."""
     q, q_dot, eta = states[0], states[1], states[2]
     h = 1e-6
-    s_dot = (np.asarray(kinematics.S(MODEL.robot, q + h * q_dot)) - np.asarray(kinematics.S(MODEL.robot, q - h * q_dot))) / (2 * h)
+    s_dot = (
+        np.asarray(kinematics.S(MODEL.robot, q + h * q_dot))
+        - np.asarray(kinematics.S(MODEL.robot, q - h * q_dot))
+    ) / (2 * h)
     s = np.asarray(kinematics.S(MODEL.robot, q))
     m = np.asarray(dyn.mass_matrix(MODEL, q))
     full = np.einsum("kij,kjl,kl->ki", m, s_dot, eta) + np.asarray(dyn.bias(MODEL, q, q_dot))

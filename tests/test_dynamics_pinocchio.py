@@ -27,8 +27,13 @@ BODY = dyn.PlatformBody(20.0, 1.3, com=(0.05, 0.02, 0.1))
 def _links_to_models(links, gravity):
     """links: (axis, origin 4 × 4, mass, com, inertia 3 × 3) → (our DynamicModel, pinocchio Model)."""
     joints = tuple(
-        mobman.Joint("revolute", axis, tuple(np.ravel(origin)), name=f"j{i}",
-                     inertial=mobman.LinkInertial(mass, tuple(com), tuple(np.ravel(inertia))))
+        mobman.Joint(
+            "revolute",
+            axis,
+            tuple(np.ravel(origin)),
+            name=f"j{i}",
+            inertial=mobman.LinkInertial(mass, tuple(com), tuple(np.ravel(inertia))),
+        )
         for i, (axis, origin, mass, com, inertia) in enumerate(links)
     )
     robot = mobman.MobileManipulator(mobman.Omnidirectional(), (mobman.Arm(joints),), (MOUNT,))
@@ -40,12 +45,18 @@ def _links_to_models(links, gravity):
     for name, joint in (("x", pin.JointModelPX()), ("y", pin.JointModelPY()), ("theta", pin.JointModelRZ())):
         parent = model.addJoint(parent, joint, pin.SE3.Identity(), name)
     inertia_body = np.diag([0.0, 0.0, BODY.inertia_z])
-    model.appendBodyToJoint(parent, pin.Inertia(BODY.mass, np.asarray(BODY.com), inertia_body), pin.SE3.Identity())
+    model.appendBodyToJoint(
+        parent, pin.Inertia(BODY.mass, np.asarray(BODY.com), inertia_body), pin.SE3.Identity()
+    )
     placement = pin.SE3(spatial.as_matrix(MOUNT.transform))
     for i, (axis, origin, mass, com, inertia) in enumerate(links):
         placement = placement * pin.SE3(np.asarray(origin)) if i == 0 else pin.SE3(np.asarray(origin))
-        parent = model.addJoint(parent, pin.JointModelRevoluteUnaligned(np.asarray(axis, float)), placement, f"j{i}")
-        model.appendBodyToJoint(parent, pin.Inertia(mass, np.asarray(com), np.asarray(inertia)), pin.SE3.Identity())
+        parent = model.addJoint(
+            parent, pin.JointModelRevoluteUnaligned(np.asarray(axis, float)), placement, f"j{i}"
+        )
+        model.appendBodyToJoint(
+            parent, pin.Inertia(mass, np.asarray(com), np.asarray(inertia)), pin.SE3.Identity()
+        )
     return ours, model
 
 
@@ -67,7 +78,11 @@ def _planar_three_link():
 
 def _panda():
     """The Panda's 7 joints with the inertials of example-robot-data (fingers locked into the hand)."""
-    files = [p for p in metadata.files("example-robot-data") or () if str(p).endswith("panda_description/urdf/panda.urdf")]
+    files = [
+        p
+        for p in metadata.files("example-robot-data") or ()
+        if str(p).endswith("panda_description/urdf/panda.urdf")
+    ]
     assert files, "example-robot-data is installed without panda_description/urdf/panda.urdf"
     full = pin.buildModelFromUrdf(str(files[0].locate()))
     locked = [full.getJointId(n) for n in ("panda_finger_joint1", "panda_finger_joint2")]
@@ -77,8 +92,15 @@ def _panda():
     for j in range(1, model.njoints):
         assert model.joints[j].shortname() == "JointModelRZ"  # every Panda joint turns about its local z
         inertia = model.inertias[j]
-        links.append(((0.0, 0.0, 1.0), model.jointPlacements[j].homogeneous, inertia.mass,
-                      np.asarray(inertia.lever), np.asarray(inertia.inertia)))
+        links.append(
+            (
+                (0.0, 0.0, 1.0),
+                model.jointPlacements[j].homogeneous,
+                inertia.mass,
+                np.asarray(inertia.lever),
+                np.asarray(inertia.inertia),
+            )
+        )
     return links
 
 
@@ -100,8 +122,13 @@ def comparison(request):
         m_pin.append(np.triu(m) + np.triu(m, 1).T)
         b_pin.append(pin.nonLinearEffects(model, data, q[k], q_dot[k]).copy())
         rnea.append(pin.rnea(model, data, q[k], q_dot[k], np.zeros(n_q)).copy())
-    return (np.asarray(dyn.mass_matrix(ours, q)), np.asarray(dyn.bias(ours, q, q_dot)),
-            np.array(m_pin), np.array(b_pin), np.array(rnea))
+    return (
+        np.asarray(dyn.mass_matrix(ours, q)),
+        np.asarray(dyn.bias(ours, q, q_dot)),
+        np.array(m_pin),
+        np.array(b_pin),
+        np.array(rnea),
+    )
 
 
 def test_mass_matrix_matches_pinocchio_crba(comparison):

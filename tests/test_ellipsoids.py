@@ -52,8 +52,13 @@ def _jhat(robot, q, scale=1.0):
     """Ĵ = J̄ T Y⁻¹ of eq. 24, written out here: wheel matrix and speed limits from the platform's parameters."""
     platform = robot.platform
     t = np.eye(robot.n_eta)
-    t[:2, :2] = [[platform.wheel_radius / 2] * 2,
-                 [platform.wheel_radius / (2 * platform.half_track), -platform.wheel_radius / (2 * platform.half_track)]]
+    t[:2, :2] = [
+        [platform.wheel_radius / 2] * 2,
+        [
+            platform.wheel_radius / (2 * platform.half_track),
+            -platform.wheel_radius / (2 * platform.half_track),
+        ],
+    ]
     u_max = np.array([platform.wheel_speed_max * scale] * 2 + [3.14] * 6)
     return np.asarray(kinematics.reduced_jacobian(robot, q, grasp_task(robot))) @ t * u_max
 
@@ -114,8 +119,9 @@ def test_single_task_kinematic_ellipsoid_is_the_normalised_jacobian_image():
     e = kinematic_ellipsoid(robot, q)
     jn = np.asarray(kinematics.reduced_jacobian(robot, q)) * np.array(robot.velocity_limits)
     np.testing.assert_allclose(e.axes, np.linalg.svd(jn, compute_uv=False), rtol=1e-10)
-    np.testing.assert_allclose(np.abs(np.einsum("...ij,...ij->...j", e.directions, np.linalg.svd(jn)[0])), 1.0,
-                               atol=1e-8)
+    np.testing.assert_allclose(
+        np.abs(np.einsum("...ij,...ij->...j", e.directions, np.linalg.svd(jn)[0])), 1.0, atol=1e-8
+    )
     assert e.names == robot.task.names
 
 
@@ -223,8 +229,9 @@ def test_exact_dynamic_ellipsoid_without_object_is_the_image_of_the_torque_box(m
     for k in range(len(qs)):
         a = (tau_bar * LIMITS) @ g[k].T
         np.testing.assert_allclose(a, tau_bar @ e.matrix[k].T, rtol=1e-8, atol=1e-8)
-        assert np.all(Ellipsoid(e.center[k], e.matrix[k], e.names, e.feasible[k]).contains(
-            a / np.sqrt(8), tol=1e-9))  # |τ̄| ≤ √8 in the box: scaled into the ball
+        assert np.all(
+            Ellipsoid(e.center[k], e.matrix[k], e.names, e.feasible[k]).contains(a / np.sqrt(8), tol=1e-9)
+        )  # |τ̄| ≤ √8 in the box: scaled into the ball
 
 
 def test_paper_ellipsoid_is_consistent_and_inside_the_exact_one(model, qs, held_terms):
@@ -269,8 +276,10 @@ def test_drift_matches_finite_difference(model, qs, moving_terms):
     task = grasp_task(robot)
     h = 1e-6
     dq = np.einsum("kij,kj->ki", np.asarray(kinematics.S(robot, qs)), ETA)
-    fd = (np.asarray(kinematics.reduced_jacobian(robot, qs + h * dq, task))
-          - np.asarray(kinematics.reduced_jacobian(robot, qs - h * dq, task))) / (2 * h)
+    fd = (
+        np.asarray(kinematics.reduced_jacobian(robot, qs + h * dq, task))
+        - np.asarray(kinematics.reduced_jacobian(robot, qs - h * dq, task))
+    ) / (2 * h)
     j = np.asarray(kinematics.reduced_jacobian(robot, qs, task))
     w = np.asarray(grasp_matrix(grasp_offsets(robot, qs)))
     v_o = np.linalg.lstsq(w[0].T, j[0] @ ETA[0], rcond=None)[0]
@@ -330,8 +339,11 @@ def q_point(robot):
     from mobman.experiments.yamamoto1999 import paper_configuration
 
     out = []
-    for angle, posture, pose in ((20.0, (0.7, 1.2), (0.3, -0.2, 0.4)), (75.0, (1.0, 0.9), (-1.0, 0.5, -0.7)),
-                                 (-40.0, (0.5, 1.5), (0.0, 0.0, 2.0))):
+    for angle, posture, pose in (
+        (20.0, (0.7, 1.2), (0.3, -0.2, 0.4)),
+        (75.0, (1.0, 0.9), (-1.0, 0.5, -0.7)),
+        (-40.0, (0.5, 1.5), (0.0, 0.0, 2.0)),
+    ):
         q = paper_configuration(robot, angle, posture)
         q[:3] = pose
         out.append(q)
@@ -343,10 +355,19 @@ def test_point_grasp_kinematic_ellipsoid(robot, q_point):
     e = kinematic_ellipsoid(robot, q_point, held=True, grasp="point")
     platform = robot.platform
     t = np.eye(robot.n_eta)
-    t[:2, :2] = [[platform.wheel_radius / 2] * 2,
-                 [platform.wheel_radius / (2 * platform.half_track), -platform.wheel_radius / (2 * platform.half_track)]]
+    t[:2, :2] = [
+        [platform.wheel_radius / 2] * 2,
+        [
+            platform.wheel_radius / (2 * platform.half_track),
+            -platform.wheel_radius / (2 * platform.half_track),
+        ],
+    ]
     task = stack(Position("xy", arm=0), Position("xy", arm=1))
-    jhat = np.asarray(kinematics.reduced_jacobian(robot, q_point, task)) @ t * np.array([1 / 0.075] * 2 + [3.14] * 6)
+    jhat = (
+        np.asarray(kinematics.reduced_jacobian(robot, q_point, task))
+        @ t
+        * np.array([1 / 0.075] * 2 + [3.14] * 6)
+    )
     w = np.hstack([np.eye(2), np.eye(2)])
     form = w @ np.linalg.inv(jhat @ np.swapaxes(jhat, -1, -2)) @ w.T
     np.testing.assert_allclose(np.linalg.inv(e.shape_matrix), form, rtol=1e-8)

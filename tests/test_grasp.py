@@ -56,7 +56,9 @@ def test_velocities_and_accelerations_of_rigidly_attached_points():
     rd = jax.jacfwd(rot)(t)
     omega_hat = rd @ rot(t).T
     omega = jnp.array([omega_hat[2, 1], omega_hat[0, 2], omega_hat[1, 0]])
-    alpha = jax.jacfwd(lambda s: (lambda m: jnp.array([m[2, 1], m[0, 2], m[1, 0]]))(jax.jacfwd(rot)(s) @ rot(s).T))(t)
+    alpha = jax.jacfwd(
+        lambda s: (lambda m: jnp.array([m[2, 1], m[0, 2], m[1, 0]]))(jax.jacfwd(rot)(s) @ rot(s).T)
+    )(t)
     p_dot = c1 + 2 * c2 * t
     p_ddot = 2 * c2
     r = points(t) - (c0 + c1 * t + c2 * t**2)
@@ -116,8 +118,13 @@ def test_object_dynamics_gravity_and_gyroscopic_terms():
 
 @pytest.mark.parametrize(
     "kwargs, field",
-    [({"mass": 0.0}, "mass"), ({"mass": float("nan")}, "mass"), ({"mass": 1.0, "inertia": (1.0, -1.0, 1.0)}, "inertia"),
-     ({"mass": 1.0, "inertia": (0, 1, 0, 0, 0, 0, 0, 0, 0)}, "inertia"), ({"mass": 1.0, "inertia": (1.0, 2.0)}, "inertia")],
+    [
+        ({"mass": 0.0}, "mass"),
+        ({"mass": float("nan")}, "mass"),
+        ({"mass": 1.0, "inertia": (1.0, -1.0, 1.0)}, "inertia"),
+        ({"mass": 1.0, "inertia": (0, 1, 0, 0, 0, 0, 0, 0, 0)}, "inertia"),
+        ({"mass": 1.0, "inertia": (1.0, 2.0)}, "inertia"),
+    ],
 )
 def test_invalid_object_names_the_field(kwargs, field):
     with pytest.raises(ModelError, match=field):

@@ -62,7 +62,9 @@ def test_determinants_match_paper_closed_forms(runs, robot):
     _, r1 = runs[1]
     _, r2 = runs[2]
     np.testing.assert_allclose(r1.info["det"], l0, rtol=1e-12)  # eq. 36: Det = l0, any configuration
-    np.testing.assert_allclose(r2.info["det"], l0 * l1 * l2 * np.abs(np.sin(r2.q[:, 4])), atol=1e-12)  # eq. 37
+    np.testing.assert_allclose(
+        r2.info["det"], l0 * l1 * l2 * np.abs(np.sin(r2.q[:, 4])), atol=1e-12
+    )  # eq. 37
 
 
 def test_damping_needed_only_at_model2_singular_end(runs):
@@ -78,7 +80,9 @@ def test_initial_configurations(robot):
     check1 = kk.stated_initial_check(robot, m1)
     assert not check1["consistent"] and check1["ee_distance_from_stated"] > 0.1
     q1 = kk.initial_configuration(robot, m1)
-    np.testing.assert_allclose(K.forward(robot, q1, stack(Position("xy"), m1.extra)), m1.x_initial, atol=1e-12)
+    np.testing.assert_allclose(
+        K.forward(robot, q1, stack(Position("xy"), m1.extra)), m1.x_initial, atol=1e-12
+    )
     assert q1[2] == 0.0
     assert kk.stated_initial_check(robot, m2)["consistent"]
     q2 = kk.initial_configuration(robot, m2)

@@ -54,7 +54,9 @@ def test_derivative_matches_jax_eigvalsh_and_finite_differences():
         return jnp.dot(weights, jnp.linalg.eigvalsh(x)[::-1])
 
     g = np.asarray(jax.grad(ours)(a))
-    np.testing.assert_allclose(g + g.T, np.asarray(jax.grad(reference)(a) + jax.grad(reference)(a).T), atol=1e-10)
+    np.testing.assert_allclose(
+        g + g.T, np.asarray(jax.grad(reference)(a) + jax.grad(reference)(a).T), atol=1e-10
+    )
     d = _symmetric(4, batch=1)[0]
     h = 1e-6
     fd = (float(ours(a + h * d)) - float(ours(a - h * d))) / (2 * h)

@@ -36,17 +36,30 @@ def yaw_lift_model() -> dyn.DynamicModel:
     with a payload template whose inertia tensor is full (not diagonal)."""
     arm = Arm(
         (
-            Joint("revolute", (0.0, 0.0, 1.0), name="yaw",
-                  inertial=LinkInertial(2.0, (0.0, 0.0, 0.05), (0.02, 0.02, 0.01))),
-            Joint("revolute", (0.0, -1.0, 0.0), spatial.transform(None, (0.0, 0.0, 0.1)), name="lift",
-                  inertial=LinkInertial(LINK_MASS, (LINK_COM, 0.0, 0.0), (0.01, 0.2, 0.2))),
+            Joint(
+                "revolute",
+                (0.0, 0.0, 1.0),
+                name="yaw",
+                inertial=LinkInertial(2.0, (0.0, 0.0, 0.05), (0.02, 0.02, 0.01)),
+            ),
+            Joint(
+                "revolute",
+                (0.0, -1.0, 0.0),
+                spatial.transform(None, (0.0, 0.0, 0.1)),
+                name="lift",
+                inertial=LinkInertial(LINK_MASS, (LINK_COM, 0.0, 0.0), (0.01, 0.2, 0.2)),
+            ),
         ),
         spatial.transform(None, (LENGTH, 0.0, 0.0)),
     )
     robot = MobileManipulator(DifferentialDrive(), (arm,))
     inertia = (0.02, 0.003, -0.001, 0.003, 0.015, 0.002, -0.001, 0.002, 0.01)  # per kg
-    return dyn.DynamicModel(robot, dyn.PlatformBody(20.0, 1.0, (0.05, 0.0, 0.1)), dyn.Wheel(1.0, 0.01, 0.01),
-                            payload=dyn.Payload(1.0, inertia))
+    return dyn.DynamicModel(
+        robot,
+        dyn.PlatformBody(20.0, 1.0, (0.05, 0.0, 0.1)),
+        dyn.Wheel(1.0, 0.01, 0.01),
+        payload=dyn.Payload(1.0, inertia),
+    )
 
 
 def moving_samples():
@@ -87,19 +100,23 @@ def test_torque_box_and_coefficients():
     np.testing.assert_array_equal(box.limits([0.0, 10.0]), ([-2.0, -2.0], [5.0, 5.0]))
     assert TorqueBox.symmetric(3.0) == TorqueBox(-3.0, 3.0)
     coeffs = envelope_coefficients(actuator_list(("a", "b", "c"), {"a": box, "c": DCMotor(2.0, 4.0)}))
-    np.testing.assert_array_equal(coeffs, [[-2.0, -math.inf, -2.0], [0.0, 0.0, -0.5], [5.0, math.inf, 2.0],
-                                           [0.0, 0.0, -0.5]])
+    np.testing.assert_array_equal(
+        coeffs, [[-2.0, -math.inf, -2.0], [0.0, 0.0, -0.5], [5.0, math.inf, 2.0], [0.0, 0.0, -0.5]]
+    )
 
 
-@pytest.mark.parametrize(("factory", "field"), [
-    (lambda: DCMotor(0.0, 3.5), "stall_torque"),
-    (lambda: DCMotor(63.22, -1.0), "no_load_speed"),
-    (lambda: DCMotor(math.inf, 3.5), "stall_torque"),
-    (lambda: DCMotor(1.0, "fast"), "no_load_speed"),
-    (lambda: TorqueBox(1.0, -1.0), "lower must be < upper"),
-    (lambda: TorqueBox(math.nan, 1.0), "lower"),
-    (lambda: TorqueBox.symmetric(-2.0), "limit"),
-])
+@pytest.mark.parametrize(
+    ("factory", "field"),
+    [
+        (lambda: DCMotor(0.0, 3.5), "stall_torque"),
+        (lambda: DCMotor(63.22, -1.0), "no_load_speed"),
+        (lambda: DCMotor(math.inf, 3.5), "stall_torque"),
+        (lambda: DCMotor(1.0, "fast"), "no_load_speed"),
+        (lambda: TorqueBox(1.0, -1.0), "lower must be < upper"),
+        (lambda: TorqueBox(math.nan, 1.0), "lower"),
+        (lambda: TorqueBox.symmetric(-2.0), "limit"),
+    ],
+)
 def test_actuator_validation_names_the_field(factory, field):
     with pytest.raises(ModelError, match=field):
         factory()
@@ -146,14 +163,16 @@ def test_static_lift_matches_the_closed_form():
     assert result.limiting_time == 0.0
     np.testing.assert_allclose(result.tau0[:, 3], LINK_MASS * G * LINK_COM, rtol=1e-12)
     np.testing.assert_allclose(result.tau1[:, 3], G * LENGTH, rtol=1e-12)
-    again = capacity_from_torques(result.names, t, result.tau0, result.tau1, result.speed,
-                                  {"lift": DCMotor(k1, 3.5)})
+    again = capacity_from_torques(
+        result.names, t, result.tau0, result.tau1, result.speed, {"lift": DCMotor(k1, 3.5)}
+    )
     assert again.max_load == result.max_load and again.limiting_actuator == "lift"
     with pytest.raises(InputError, match=r"shape \(9, 4\)"):
         capacity_from_torques(result.names, t, result.tau0[:, :3], result.tau1, result.speed, None)
     # a box that is tighter on the other side does not change a positive holding torque's bound
-    box = max_load(model, t, q, eta, eta_dot,
-                   {"lift": TorqueBox(-1.0, 30.0), "yaw": TorqueBox.symmetric(1.0)})
+    box = max_load(
+        model, t, q, eta, eta_dot, {"lift": TorqueBox(-1.0, 30.0), "yaw": TorqueBox.symmetric(1.0)}
+    )
     assert box.max_load == pytest.approx((30.0 - LINK_MASS * G * LINK_COM) / (G * LENGTH), rel=1e-12)
 
 
@@ -173,8 +192,10 @@ def test_unbounded_and_infeasible():
 def test_capacity_is_monotone_in_stall_torque():
     model = yaw_lift_model()
     t, q, eta, eta_dot = moving_samples()
-    loads = [max_load(model, t, q, eta, eta_dot, {"yaw": DCMotor(k1, 3.5), "lift": DCMotor(k1, 3.5)}).max_load
-             for k1 in (60.0, 80.0, 120.0, 250.0)]
+    loads = [
+        max_load(model, t, q, eta, eta_dot, {"yaw": DCMotor(k1, 3.5), "lift": DCMotor(k1, 3.5)}).max_load
+        for k1 in (60.0, 80.0, 120.0, 250.0)
+    ]
     assert all(np.isfinite(loads))
     assert np.all(np.diff(loads) > 0)
 
@@ -195,8 +216,9 @@ def test_motion_validation():
 def test_eta_dot_from_samples_is_second_order_exact_on_quadratics():
     t = np.linspace(0.0, 1.0, 11) ** 1.3  # uneven steps
     eta = np.column_stack([t**2, 3 * t - 1])
-    np.testing.assert_allclose(eta_dot_from_samples(t, eta), np.column_stack([2 * t, np.full_like(t, 3.0)]),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        eta_dot_from_samples(t, eta), np.column_stack([2 * t, np.full_like(t, 3.0)]), atol=1e-12
+    )
 
 
 # --- reproduction and command line -------------------------------------------------------------------
@@ -239,19 +261,29 @@ def _spec(tmp_path: Path, old: str, new: str) -> str:
     return str(path)
 
 
-@pytest.mark.parametrize(("old", "new", "message"), [
-    ("mass = 40.0", "mass = -40.0", "platform: PlatformBody: mass must be a finite number > 0"),
-    ("I_w = 0.005", "I_w = -0.005", "wheel: Wheel: I_w must be a finite number ≥ 0"),
-    ("inertia = [0.0, 0.10416666666666667, 0.10416666666666667]", "inertia = [0.0, -1.0, 0.1]",
-     "links[0]: LinkInertial: inertia must be positive semi-definite"),
-    ("mass = 5.0", "mass = 0.0", "links[0]: LinkInertial: mass must be"),
-    ("stall_torque = 63.22 ", "stall_torque = -63.22 ", "actuators.theta1: DCMotor: stall_torque must be"),
-    ("no_load_speed = 3.5 ", "no_load_speed = 0 ", "actuators.theta1: DCMotor: no_load_speed must be"),
-    ("[actuators.theta1]", "[actuators.shoulder]", "actuators.shoulder: unknown actuator"),
-    ('kind = "dc_motor"', 'kind = "hydraulic"', "actuators.theta1.kind: 'hydraulic' not one of"),
-    ("case = 1 ", "case = 3 ", "motion.case: 1"),
-    ("[payload]", "[payload]\narm = 4", "payload.arm: an arm index in 0..0"),
-])
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("mass = 40.0", "mass = -40.0", "platform: PlatformBody: mass must be a finite number > 0"),
+        ("I_w = 0.005", "I_w = -0.005", "wheel: Wheel: I_w must be a finite number ≥ 0"),
+        (
+            "inertia = [0.0, 0.10416666666666667, 0.10416666666666667]",
+            "inertia = [0.0, -1.0, 0.1]",
+            "links[0]: LinkInertial: inertia must be positive semi-definite",
+        ),
+        ("mass = 5.0", "mass = 0.0", "links[0]: LinkInertial: mass must be"),
+        (
+            "stall_torque = 63.22 ",
+            "stall_torque = -63.22 ",
+            "actuators.theta1: DCMotor: stall_torque must be",
+        ),
+        ("no_load_speed = 3.5 ", "no_load_speed = 0 ", "actuators.theta1: DCMotor: no_load_speed must be"),
+        ("[actuators.theta1]", "[actuators.shoulder]", "actuators.shoulder: unknown actuator"),
+        ('kind = "dc_motor"', 'kind = "hydraulic"', "actuators.theta1.kind: 'hydraulic' not one of"),
+        ("case = 1 ", "case = 3 ", "motion.case: 1"),
+        ("[payload]", "[payload]\narm = 4", "payload.arm: an arm index in 0..0"),
+    ],
+)
 def test_cli_errors_name_the_field(tmp_path, capsys, old, new, message):
     with pytest.raises(SystemExit) as exc:
         main(["load-capacity", _spec(tmp_path, old, new), "--json"])
@@ -264,7 +296,7 @@ def test_cli_missing_link_and_file(tmp_path, capsys):
     text = EXAMPLE.read_text()
     cut = text.index("[[links]]                                        # theta2")
     path = tmp_path / "one_link.toml"
-    path.write_text(text[:cut] + text[text.index("[payload]"):])
+    path.write_text(text[:cut] + text[text.index("[payload]") :])
     with pytest.raises(SystemExit) as exc:
         main(["load-capacity", str(path)])
     assert exc.value.code == 2

@@ -34,8 +34,12 @@ def test_measures_match_numpy_svd(shape):
     want = _reference(j)
     for key in mp.MEASURES:
         np.testing.assert_allclose(got[key], want[key], rtol=1e-9, atol=1e-12, err_msg=key)
-    np.testing.assert_allclose(got["yoshikawa"], np.sqrt(np.linalg.det(j @ np.swapaxes(j, -1, -2))), rtol=1e-9)
-    np.testing.assert_allclose(mp.singular_values(j), np.linalg.svd(j, compute_uv=False), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        got["yoshikawa"], np.sqrt(np.linalg.det(j @ np.swapaxes(j, -1, -2))), rtol=1e-9
+    )
+    np.testing.assert_allclose(
+        mp.singular_values(j), np.linalg.svd(j, compute_uv=False), rtol=1e-9, atol=1e-12
+    )
 
 
 def test_yoshikawa_two_link_closed_form():
@@ -59,7 +63,9 @@ def test_normalized_system_jacobian_scales_columns_by_velocity_limits():
     robot = robots.manus_platform()
     q = RNG.uniform(-1, 1, (10, robot.n_q))
     jn = mp.system_jacobian(robot, q, normalized=True)
-    np.testing.assert_allclose(jn, np.asarray(K.reduced_jacobian(robot, q)) * np.asarray(robot.velocity_limits))
+    np.testing.assert_allclose(
+        jn, np.asarray(K.reduced_jacobian(robot, q)) * np.asarray(robot.velocity_limits)
+    )
     # Nait-Chabane's u_max = (0.33 m/s, 0.55 rad/s, π/3 rad/s per joint)
     np.testing.assert_allclose(robot.velocity_limits, [0.33, 0.55, np.pi / 3, np.pi / 3, np.pi / 3])
 
@@ -82,8 +88,11 @@ def test_gradient_autodiff_matches_finite_differences(which, measure):
     q = np.array([0.3, -0.2, 0.4, 1.1, 0.7, -0.9])
 
     def value(qq):
-        j = mp.arm_jacobian(robot, qq) if which == "arm" else mp.system_jacobian(
-            robot, qq, normalized=which == "system_normalized")
+        j = (
+            mp.arm_jacobian(robot, qq)
+            if which == "arm"
+            else mp.system_jacobian(robot, qq, normalized=which == "system_normalized")
+        )
         return float(mp.measures(j)[measure])
 
     h = 1e-6
@@ -114,7 +123,9 @@ def test_restricted_measures_where_velocity_degree_below_task_dimension():
     assert auto["restricted"] and auto["ranks"]["system"] == 4
     s = np.linalg.svd(np.asarray(K.reduced_jacobian(robot, q)), compute_uv=False)
     np.testing.assert_allclose(auto["system"]["yoshikawa"], np.prod(s[:, :4], axis=1), rtol=1e-8)
-    np.testing.assert_allclose(auto["system"]["eccentricity"], np.sqrt(1 - (s[:, 3] / s[:, 0]) ** 2), rtol=1e-8)
+    np.testing.assert_allclose(
+        auto["system"]["eccentricity"], np.sqrt(1 - (s[:, 3] / s[:, 0]) ** 2), rtol=1e-8
+    )
     assert np.all(np.asarray(auto["system"]["eccentricity"]) < 1.0)
 
 

@@ -25,9 +25,9 @@ from mobman.model import (
     Omnidirectional,
     PlanarAngle,
     Position,
+    robots,
     stack,
 )
-from mobman.model import robots
 from mobman.model.spatial import euler_angles, euler_matrix
 
 ALL = [f() for f in robots.ROBOTS.values()]
@@ -115,8 +115,11 @@ def test_tchon_output_map_eq31():
     robot = robots.tchon_car_rtr()
     q = np.array([1.0, -2.0, 0.3, 0.5, 0.7, 2.0, math.pi / 4])
     q1, q2, q3, _, x1, x2, x3 = q
-    y = [q1 + (l2 + l3 * math.cos(x3)) * math.cos(q3 + x1), q2 + (l2 + l3 * math.cos(x3)) * math.sin(q3 + x1),
-         x2 + l3 * math.sin(x3)]
+    y = [
+        q1 + (l2 + l3 * math.cos(x3)) * math.cos(q3 + x1),
+        q2 + (l2 + l3 * math.cos(x3)) * math.sin(q3 + x1),
+        x2 + l3 * math.sin(x3),
+    ]
     np.testing.assert_allclose(K.forward(robot, q), y, atol=1e-14)
 
 
@@ -183,7 +186,9 @@ def test_function_task_elbow_angle():
 @given(data=st.data())
 def test_constraints_annihilate_S_and_reduced_jacobian_is_J_S(robot, data):
     q = np.array(data.draw(st.lists(angles, min_size=robot.n_q, max_size=robot.n_q)))
-    np.testing.assert_allclose(np.asarray(K.constraints(robot, q)) @ np.asarray(K.S(robot, q)), 0.0, atol=1e-14)
+    np.testing.assert_allclose(
+        np.asarray(K.constraints(robot, q)) @ np.asarray(K.S(robot, q)), 0.0, atol=1e-14
+    )
     np.testing.assert_allclose(
         K.reduced_jacobian(robot, q), np.asarray(K.jacobian(robot, q)) @ np.asarray(K.S(robot, q)), atol=1e-14
     )
@@ -203,7 +208,9 @@ def test_reduced_jacobian_rotates_with_world_for_planar_task(x, y, turn, q):
     rot = np.array([[c, -s], [s, c]])
     np.testing.assert_allclose(jm[:2], rot @ jb[:2], atol=1e-12)
     np.testing.assert_allclose(jm[2], jb[2], atol=1e-12)
-    np.testing.assert_allclose(np.linalg.svd(jm, compute_uv=False), np.linalg.svd(jb, compute_uv=False), atol=1e-12)
+    np.testing.assert_allclose(
+        np.linalg.svd(jm, compute_uv=False), np.linalg.svd(jb, compute_uv=False), atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("robot", ALL, ids=lambda r: r.name)
@@ -253,7 +260,9 @@ def test_wheel_kinematics_round_trip_korayem_eq14_15():
     assert v == pytest.approx(0.075 * 1.5)
     assert w == pytest.approx(0.075 * 1.0 / (2 * 0.171))
     np.testing.assert_allclose(p.eta_to_wheel_speeds(np.array([v, w])), wheels, atol=1e-14)
-    limits = DifferentialDrive(wheel_radius=0.075, half_track=0.171, wheel_speed_max=1 / 0.075).velocity_limits
+    limits = DifferentialDrive(
+        wheel_radius=0.075, half_track=0.171, wheel_speed_max=1 / 0.075
+    ).velocity_limits
     assert limits == pytest.approx((1.0, 1.0 / 0.171))
 
 
@@ -270,21 +279,28 @@ def test_car_constraints_are_no_side_slip_of_both_axles():
 # --- arms from DH tables ------------------------------------------------------------------------------
 
 PANDA_MDH = [
-    (0, 0, 0, 0.333), (-math.pi / 2, 0, 0, 0), (math.pi / 2, 0, 0, 0.316), (math.pi / 2, 0.0825, 0, 0),
-    (-math.pi / 2, -0.0825, 0, 0.384), (math.pi / 2, 0, 0, 0), (math.pi / 2, 0.088, 0, 0),
+    (0, 0, 0, 0.333),
+    (-math.pi / 2, 0, 0, 0),
+    (math.pi / 2, 0, 0, 0.316),
+    (math.pi / 2, 0.0825, 0, 0),
+    (-math.pi / 2, -0.0825, 0, 0.384),
+    (math.pi / 2, 0, 0, 0),
+    (math.pi / 2, 0.088, 0, 0),
 ]
 
 
 def _mdh_matrix(alpha, a, theta, d):
     ca, sa, ct, st_ = math.cos(alpha), math.sin(alpha), math.cos(theta), math.sin(theta)
-    return np.array([[ct, -st_, 0, a], [st_ * ca, ct * ca, -sa, -d * sa], [st_ * sa, ct * sa, ca, d * ca],
-                     [0, 0, 0, 1]])
+    return np.array(
+        [[ct, -st_, 0, a], [st_ * ca, ct * ca, -sa, -d * sa], [st_ * sa, ct * sa, ca, d * ca], [0, 0, 0, 1]]
+    )
 
 
 def _dh_matrix(theta, d, a, alpha):
     ca, sa, ct, st_ = math.cos(alpha), math.sin(alpha), math.cos(theta), math.sin(theta)
-    return np.array([[ct, -st_ * ca, st_ * sa, a * ct], [st_, ct * ca, -ct * sa, a * st_], [0, sa, ca, d],
-                     [0, 0, 0, 1]])
+    return np.array(
+        [[ct, -st_ * ca, st_ * sa, a * ct], [st_, ct * ca, -ct * sa, a * st_], [0, sa, ca, d], [0, 0, 0, 1]]
+    )
 
 
 def test_modified_dh_matches_textbook_product():
@@ -305,7 +321,9 @@ def test_standard_dh_with_prismatic_joint_matches_textbook_product():
     q = np.array([0.3, 0.25, -0.8])
     expected = np.eye(4)
     for (theta, d, a, alpha), qi, kind in zip(table, q, "RPR"):
-        expected = expected @ (_dh_matrix(theta + qi, d, a, alpha) if kind == "R" else _dh_matrix(theta, d + qi, a, alpha))
+        expected = expected @ (
+            _dh_matrix(theta + qi, d, a, alpha) if kind == "R" else _dh_matrix(theta, d + qi, a, alpha)
+        )
     rs, ps = arm.link_poses(jnp.asarray(q))
     np.testing.assert_allclose(rs[-1], expected[:3, :3], atol=1e-12)
     np.testing.assert_allclose(ps[-1], expected[:3, 3], atol=1e-12)
@@ -313,8 +331,12 @@ def test_standard_dh_with_prismatic_joint_matches_textbook_product():
 
 def test_two_arms_and_mount_offsets():
     arm = robots.planar_arm((1.0,))
-    robot = MobileManipulator(DifferentialDrive(), (arm, arm), (Mount(0.5), Mount(0.0, 0.3, 0.2, yaw=math.pi / 2)),
-                              task=stack(Position(arm=0), Position(arm=1)))
+    robot = MobileManipulator(
+        DifferentialDrive(),
+        (arm, arm),
+        (Mount(0.5), Mount(0.0, 0.3, 0.2, yaw=math.pi / 2)),
+        task=stack(Position(arm=0), Position(arm=1)),
+    )
     q = np.array([1.0, 2.0, 0.0, 0.0, 0.0])
     np.testing.assert_allclose(K.forward(robot, q), [2.5, 2.0, 0.0, 1.0, 3.3, 0.2], atol=1e-14)
     assert robot.coordinate_names == ("x", "y", "theta", "arm1.q1", "arm2.q1")

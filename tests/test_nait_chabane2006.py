@@ -29,20 +29,37 @@ def test_robot_matches_eq8_and_eq3():
     rng = np.random.default_rng(1)
     for xp, yp, th, q1, q2, q3 in rng.uniform(-2, 2, size=(5, 6)):
         r = L4 * math.cos(q3) + L3 * math.cos(q2)
-        xa1, xa2, xa3 = r * math.cos(q1) - L2 * math.sin(q1), r * math.sin(q1) + L2 * math.cos(q1), \
-            L4 * math.sin(q3) + L3 * math.sin(q2)
-        x = [xp + (xa2 + a) * math.cos(th) - (b - xa1) * math.sin(th),
-             yp + (xa2 + a) * math.sin(th) + (b - xa1) * math.cos(th), xa3 + c]
+        xa1, xa2, xa3 = (
+            r * math.cos(q1) - L2 * math.sin(q1),
+            r * math.sin(q1) + L2 * math.cos(q1),
+            L4 * math.sin(q3) + L3 * math.sin(q2),
+        )
+        x = [
+            xp + (xa2 + a) * math.cos(th) - (b - xa1) * math.sin(th),
+            yp + (xa2 + a) * math.sin(th) + (b - xa1) * math.cos(th),
+            xa3 + c,
+        ]
         np.testing.assert_allclose(K.forward(robot, [xp, yp, th, q1, q2, q3]), x, atol=1e-14)
 
 
 def test_initial_arm_eccentricity_from_eq27(reproduction):
     L2, L3, L4 = 0.12, 0.35, 0.35
     q1, q2, q3 = math.pi / 2, math.pi / 3, -math.pi / 3
-    c1, s1, c2, s2, c3, s3 = math.cos(q1), math.sin(q1), math.cos(q2), math.sin(q2), math.cos(q3), math.sin(q3)
-    ja = np.array([[-(L4 * c3 + L3 * c2) * s1 - L2 * c1, -L3 * c1 * s2, -L4 * c1 * s3],
-                   [(L4 * c3 + L3 * c2) * c1 - L2 * s1, -L3 * s1 * s2, -L4 * s3 * s1],
-                   [0.0, L3 * c2, L4 * c3]])
+    c1, s1, c2, s2, c3, s3 = (
+        math.cos(q1),
+        math.sin(q1),
+        math.cos(q2),
+        math.sin(q2),
+        math.cos(q3),
+        math.sin(q3),
+    )
+    ja = np.array(
+        [
+            [-(L4 * c3 + L3 * c2) * s1 - L2 * c1, -L3 * c1 * s2, -L4 * c1 * s3],
+            [(L4 * c3 + L3 * c2) * c1 - L2 * s1, -L3 * s1 * s2, -L4 * s3 * s1],
+            [0.0, L3 * c2, L4 * c3],
+        ]
+    )
     s = np.linalg.svd(ja, compute_uv=False)
     for e in reproduction.results:
         assert e["wa5_initial"] == pytest.approx(math.sqrt(1 - s[-1] ** 2 / s[0] ** 2), abs=1e-12)
@@ -51,13 +68,24 @@ def test_initial_arm_eccentricity_from_eq27(reproduction):
 def test_results_cover_cases_strategies_gains(reproduction):
     results = reproduction.results
     assert len(results) == 2 * (1 + 3 * len(nc.GAINS))
-    keys = {"case", "strategy", "gain", "graining_points", "wa5_min", "wa5_max", "wa5_final",
-            "max_tracking_error", "v_initial"}
+    keys = {
+        "case",
+        "strategy",
+        "gain",
+        "graining_points",
+        "wa5_min",
+        "wa5_max",
+        "wa5_final",
+        "max_tracking_error",
+        "v_initial",
+    }
     assert all(keys <= set(r) for r in results)
     assert {(r["case"], r["strategy"]) for r in results} == {(c, s) for c in (1, 2) for s in nc.STRATEGIES}
     assert len(reproduction.figures) == 8 + 4
     names = {p.name for p in reproduction.figures}
-    assert {f"fig{n}_case{1 + (n - 9) // 4}_{s}.png" for n, s in zip(range(9, 17), list(nc.STRATEGIES) * 2)} <= names
+    assert {
+        f"fig{n}_case{1 + (n - 9) // 4}_{s}.png" for n, s in zip(range(9, 17), list(nc.STRATEGIES) * 2)
+    } <= names
     assert all(p.read_bytes()[:4] == b"\x89PNG" for p in reproduction.figures)
 
 
@@ -88,8 +116,10 @@ def test_normalized_criterion_balances(reproduction):
     # paper Fig. 12 and 16: w̃5 keeps the arm away from its singular posture; fewer manoeuvres than w_a5 (case 2)
     for case in (1, 2):
         assert entry(reproduction.results, case, "system_w5_normalized")["wa5_max"] < nc.WA5_GOOD
-    assert (entry(reproduction.results, 2, "system_w5_normalized")["graining_points"]
-            < entry(reproduction.results, 2, "arm_w5")["graining_points"])
+    assert (
+        entry(reproduction.results, 2, "system_w5_normalized")["graining_points"]
+        < entry(reproduction.results, 2, "arm_w5")["graining_points"]
+    )
 
 
 def test_no_optimisation_case2_reaches_singular_arm(reproduction):

@@ -12,7 +12,7 @@ import sympy as sp
 from mobman import kinematics as K
 from mobman import symbolic as S
 from mobman.errors import ModelError
-from mobman.model import EulerAngles, FunctionTask, MountPosition, Mount, PlanarAngle, Position, robots, stack
+from mobman.model import EulerAngles, FunctionTask, Mount, MountPosition, PlanarAngle, Position, robots, stack
 from mobman.redundancy import sample_configurations
 
 sin, cos = sp.sin, sp.cos
@@ -60,20 +60,24 @@ def test_bayle_rrp_printed_j_and_j_bar(rrp):
     # ξ5 = q5 on the chart |q5| < π/2 of the elevation angle (Bayle §2: operational coordinates are local)
     x, y, q3, q4, q5, q6 = rrp.q
     c5, s5, c34, s34 = cos(q5), sin(q5), cos(q3 + q4), sin(q3 + q4)
-    j = sp.Matrix([
-        [1, 0, -q6 * c5 * s34, -q6 * c5 * s34, -q6 * s5 * c34, c5 * c34],
-        [0, 1, q6 * c5 * c34, q6 * c5 * c34, -q6 * s5 * s34, c5 * s34],
-        [0, 0, 0, 0, q6 * c5, s5],
-        [0, 0, 1, 1, 0, 0],
-        [0, 0, 0, 0, 1, 0],
-    ])
-    jbar = sp.Matrix([
-        [cos(q3), -q6 * c5 * s34, -q6 * c5 * s34, -q6 * s5 * c34, c5 * c34],
-        [sin(q3), q6 * c5 * c34, q6 * c5 * c34, -q6 * s5 * s34, c5 * s34],
-        [0, 0, 0, q6 * c5, s5],
-        [0, 1, 1, 0, 0],
-        [0, 0, 0, 1, 0],
-    ])
+    j = sp.Matrix(
+        [
+            [1, 0, -q6 * c5 * s34, -q6 * c5 * s34, -q6 * s5 * c34, c5 * c34],
+            [0, 1, q6 * c5 * c34, q6 * c5 * c34, -q6 * s5 * s34, c5 * s34],
+            [0, 0, 0, 0, q6 * c5, s5],
+            [0, 0, 1, 1, 0, 0],
+            [0, 0, 0, 0, 1, 0],
+        ]
+    )
+    jbar = sp.Matrix(
+        [
+            [cos(q3), -q6 * c5 * s34, -q6 * c5 * s34, -q6 * s5 * c34, c5 * c34],
+            [sin(q3), q6 * c5 * c34, q6 * c5 * c34, -q6 * s5 * s34, c5 * s34],
+            [0, 0, 0, q6 * c5, s5],
+            [0, 1, 1, 0, 0],
+            [0, 0, 0, 1, 0],
+        ]
+    )
     assert_same(rrp.jacobian(), j, rrp.q)
     assert_same(rrp.reduced_jacobian(), jbar, rrp.q)
 
@@ -96,8 +100,17 @@ def test_bayle_rrp_consistency_relation_is_the_printed_one_with_q6_for_g6(rrp):
     relations = S.consistency_relations(robots.bayle_rrp())
     assert relations.shape == (1, 5)
     x, y, q3, q4, q5, q6 = rrp.q
-    printed = sp.Matrix([[sin(q3) * sin(q5), -cos(q3) * sin(q5), sin(q4) * cos(q5),
-                          q6 * cos(q4) * cos(q5) * sin(q5), -q6 * sin(q4)]])
+    printed = sp.Matrix(
+        [
+            [
+                sin(q3) * sin(q5),
+                -cos(q3) * sin(q5),
+                sin(q4) * cos(q5),
+                q6 * cos(q4) * cos(q5) * sin(q5),
+                -q6 * sin(q4),
+            ]
+        ]
+    )
     assert_same(relations, printed, rrp.q)
     assert_same(printed * rrp.reduced_jacobian(), sp.zeros(1, 5), rrp.q)
 
@@ -115,11 +128,13 @@ def paper_manus(L2=0.12, L3=0.35, L4=0.35, a=0.12, b=0.12, c=0.4):
 def _manus_arm_jacobian(q_a, L2, L3, L4):
     c1, c2, c3 = (cos(v) for v in q_a)
     s1, s2, s3 = (sin(v) for v in q_a)
-    return sp.Matrix([  # eq. (27)
-        [-(L4 * c3 + L3 * c2) * s1 - L2 * c1, -L3 * c1 * s2, -L4 * c1 * s3],
-        [(L4 * c3 + L3 * c2) * c1 - L2 * s1, -L3 * s1 * s2, -L4 * s3 * s1],
-        [0, L3 * c2, L4 * c3],
-    ])
+    return sp.Matrix(
+        [  # eq. (27)
+            [-(L4 * c3 + L3 * c2) * s1 - L2 * c1, -L3 * c1 * s2, -L4 * c1 * s3],
+            [(L4 * c3 + L3 * c2) * c1 - L2 * s1, -L3 * s1 * s2, -L4 * s3 * s1],
+            [0, L3 * c2, L4 * c3],
+        ]
+    )
 
 
 def test_nait_chabane_eq27_arm_jacobian():
@@ -140,11 +155,13 @@ def test_nait_chabane_eq28_reduced_jacobian():
     xa1 = (L4 * cos(q3) + L3 * cos(q2)) * cos(q1) - L2 * sin(q1)
     xa2 = (L4 * cos(q3) + L3 * cos(q2)) * sin(q1) + L2 * cos(q1)
     ct, st = cos(th), sin(th)
-    expected = sp.Matrix([
-        [ct, -(xa2 + a) * st - (b - xa1) * ct] + [ja[1, k] * ct + ja[0, k] * st for k in range(3)],
-        [st, (xa2 + a) * ct - (b - xa1) * st] + [ja[1, k] * st - ja[0, k] * ct for k in range(3)],
-        [0, 0, ja[2, 0], ja[2, 1], ja[2, 2]],
-    ])
+    expected = sp.Matrix(
+        [
+            [ct, -(xa2 + a) * st - (b - xa1) * ct] + [ja[1, k] * ct + ja[0, k] * st for k in range(3)],
+            [st, (xa2 + a) * ct - (b - xa1) * st] + [ja[1, k] * st - ja[0, k] * ct for k in range(3)],
+            [0, 0, ja[2, 0], ja[2, 1], ja[2, 2]],
+        ]
+    )
     assert_same(model.reduced_jacobian(), expected, model.q)
     # eq. (8), third row: x_3 = x_a3 + c
     assert_same(model.forward()[2:, :], sp.Matrix([[L3 * sin(q2) + L4 * sin(q3) + c]]), model.q)
@@ -205,7 +222,9 @@ def test_korayem_coordinate_change_relates_the_augmented_jacobians(korayem):
 # --- symbolic vs numerical model ---------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", ["bayle-planar", "bayle-rrp", "korayem-planar", "tchon-car-rtr", "yamamoto-dual-arm"])
+@pytest.mark.parametrize(
+    "name", ["bayle-planar", "bayle-rrp", "korayem-planar", "tchon-car-rtr", "yamamoto-dual-arm"]
+)
 def test_symbolic_j_bar_matches_numerical_model(name):
     robot = robots.build(name)
     model = S.model(robot)
@@ -227,7 +246,9 @@ def test_symbolic_parameters_match_numerical_model_at_other_values():
     robot = paper_manus(**values)
     q = sample_configurations(robot, 5, seed=4)
     numeric = np.asarray(K.reduced_jacobian(robot, q))
-    np.testing.assert_allclose(np.stack([np.asarray(fn(*row), dtype=float) for row in q]), numeric, atol=1e-12)
+    np.testing.assert_allclose(
+        np.stack([np.asarray(fn(*row), dtype=float) for row in q]), numeric, atol=1e-12
+    )
 
 
 def test_exact_numbers():

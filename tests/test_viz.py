@@ -58,9 +58,12 @@ def test_plot_paths_draws_model_paths_and_wheels(korayem_run, tmp_path):
     assert isinstance(fig, Figure)
     ax = fig.axes[0]
     lines = {line.get_label(): line for line in ax.lines}
-    np.testing.assert_allclose(np.asarray(lines["end effector"].get_xydata()),
-                               K.forward(robot, q, Position("xy")), atol=1e-12)
-    np.testing.assert_allclose(np.asarray(lines["platform (axle midpoint)"].get_xydata()), q[:, :2], atol=1e-12)
+    np.testing.assert_allclose(
+        np.asarray(lines["end effector"].get_xydata()), K.forward(robot, q, Position("xy")), atol=1e-12
+    )
+    np.testing.assert_allclose(
+        np.asarray(lines["platform (axle midpoint)"].get_xydata()), q[:, :2], atol=1e-12
+    )
     # two instants: 1 body + 2 wheels each; wheel centres at ±half_track across the heading
     assert len(ax.patches) == 6
     wheel_centres = np.array([p.get_xy()[:4].mean(axis=0) for p in ax.patches[4:6]])
@@ -86,8 +89,12 @@ def test_plot_paths_3d_and_ellipses(tmp_path):
 
 def test_plot_timeseries_panels_and_bad_shape():
     t = np.linspace(0.0, 1.0, 11)
-    fig = viz.plot_timeseries(t, {"w": {"w_a5": t, "w5": t**2}, "v (m/s)": {"v": np.sin(t)}},
-                              hlines={"w": [0.9]}, events={"graining": [0.5]})
+    fig = viz.plot_timeseries(
+        t,
+        {"w": {"w_a5": t, "w5": t**2}, "v (m/s)": {"v": np.sin(t)}},
+        hlines={"w": [0.9]},
+        events={"graining": [0.5]},
+    )
     assert len(fig.axes) == 2
     np.testing.assert_allclose(fig.axes[0].lines[1].get_ydata(), t**2)
     with pytest.raises(InputError, match="w_a5"):

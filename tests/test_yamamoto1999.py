@@ -42,7 +42,11 @@ def test_results_schema_and_files(run):
     point = results["point_grasp"]
     for recs in (records, point["ellipses"]):
         assert {(r["kind"], r["object_angle_deg"]) for r in recs} == {
-            ("kinematic", 0.0), ("kinematic", 90.0), ("dynamic", 0.0), ("dynamic", 90.0)}
+            ("kinematic", 0.0),
+            ("kinematic", 90.0),
+            ("dynamic", 0.0),
+            ("dynamic", 90.0),
+        }
     for r in records + results["dynamic_exact"] + point["ellipses"] + point["dynamic_exact"]:
         assert KEYS <= set(r)
         axes, directions = np.array(r["axes"]), np.array(r["directions"])
@@ -50,14 +54,21 @@ def test_results_schema_and_files(run):
         np.testing.assert_allclose(directions @ directions.T, np.eye(2), atol=1e-12)
         # directions[k] is the direction of axes[k]: the ellipse's half-width along it is that axis
         extents = np.array(r["extents"])
-        along = np.sqrt((directions**2) @ (1 / np.maximum(extents, 1e-300))**2)  # exact for axis-aligned ellipses
+        along = np.sqrt(
+            (directions**2) @ (1 / np.maximum(extents, 1e-300)) ** 2
+        )  # exact for axis-aligned ellipses
         np.testing.assert_allclose(1 / along, axes, rtol=1e-9)
     kin = [r["platform_scale"] for r in _rows(records, "kinematic", 0.0)]
     assert min(s for s in kin if s > 0) <= 0.01 and max(kin) == 1.0  # from very low to Table 2's 1/r rad/s
     dyn = [r["platform_scale"] for r in _rows(records, "dynamic", 90.0)]
     assert max(dyn) == 1.0 and min(dyn) <= 0.01  # 200 N·m down to 2 N·m
     assert results["settings"]["torque_limits"][:2] == [200.0, 200.0]
-    for name in ("fig3_kinematic.png", "fig4_dynamic.png", "fig4_dynamic_exact.png", "fig4_dynamic_point_grasp.png"):
+    for name in (
+        "fig3_kinematic.png",
+        "fig4_dynamic.png",
+        "fig4_dynamic_exact.png",
+        "fig4_dynamic_point_grasp.png",
+    ):
         assert (out / name).stat().st_size > 10_000
     for claim in results["claims"].values():
         assert claim["claim"] in report
@@ -68,7 +79,7 @@ def _tips(q):
     """Tool points of both arms from the planar forward kinematics (links 0.5 m), written out here."""
     tips = []
     for start in (3, 6):
-        angles = q[2] + np.cumsum(q[start:start + 3])
+        angles = q[2] + np.cumsum(q[start : start + 3])
         tips.append(q[:2] + 0.5 * np.array([np.cos(angles).sum(), np.sin(angles).sum()]))
     return np.array(tips)
 
@@ -111,10 +122,18 @@ def test_kinematic_claims_hold(results):
     growth = np.array(rows0[-1]["axes"]) / np.array(rows0[0]["axes"])
     assert np.all(growth > 1.8) and growth.max() / growth.min() < 1.1
     for k, angle in enumerate(yy.ANGLES):
-        np.testing.assert_allclose(rows0[0]["axes"] if angle == 0 else rows90[0]["axes"], fixed[k]["axes"], rtol=1e-3)
+        np.testing.assert_allclose(
+            rows0[0]["axes"] if angle == 0 else rows90[0]["axes"], fixed[k]["axes"], rtol=1e-3
+        )
     claims = results["claims"]
-    assert all(claims[c]["holds"] for c in ("kinematic_90_minor_axis_unchanged", "kinematic_0_grows_uniformly",
-                                            "kinematic_low_speed_is_fixed_dual_arm"))
+    assert all(
+        claims[c]["holds"]
+        for c in (
+            "kinematic_90_minor_axis_unchanged",
+            "kinematic_0_grows_uniformly",
+            "kinematic_low_speed_is_fixed_dual_arm",
+        )
+    )
 
 
 def test_exact_dynamic_claims_3_and_4_hold(results):

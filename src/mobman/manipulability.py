@@ -62,7 +62,9 @@ def _safe_ratio(num: jnp.ndarray, den: jnp.ndarray) -> jnp.ndarray:
 
 def _check_rank(rank, p: int) -> None:
     if rank is not None and not (isinstance(rank, (int, np.integer)) and 1 <= rank <= p):
-        raise InputError(f"rank must be None or an integer in 1..{p} (the number of singular values), got {rank!r}")
+        raise InputError(
+            f"rank must be None or an integer in 1..{p} (the number of singular values), got {rank!r}"
+        )
 
 
 def _squared_singular_values(j: jnp.ndarray) -> jnp.ndarray:
@@ -176,7 +178,9 @@ def arm_jacobian(robot: MobileManipulator, q, task: Task | None = None, arm: int
     return K.jacobian(robot, q, task)[..., robot.arm_slice(arm)]
 
 
-def system_jacobian(robot: MobileManipulator, q, task: Task | None = None, normalized: bool = False) -> jnp.ndarray:
+def system_jacobian(
+    robot: MobileManipulator, q, task: Task | None = None, normalized: bool = False
+) -> jnp.ndarray:
     """J̄ = J S (Bayle eq. 2), or J̄_N = J̄ · diag(robot.velocity_limits) (Nait-Chabane eq. 23), (..., m, δ).
 
     Raises ModelError for ``normalized=True`` when the robot lacks velocity limits.
@@ -239,10 +243,15 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
     if isinstance(rank, (int, np.integer)):
         ranks = {"arm": min(int(rank), j_arm.shape[-1]), "system": int(rank)}
     else:
-        ranks = {"arm": _resolve_rank(robot, task, "arm", rank), "system": _resolve_rank(robot, task, "system", rank)}
+        ranks = {
+            "arm": _resolve_rank(robot, task, "arm", rank),
+            "system": _resolve_rank(robot, task, "system", rank),
+        }
     out = {"arm": measures(j_arm, ranks["arm"]), "system": measures(jbar, ranks["system"])}
     limits = robot.velocity_limits
-    out["system_normalized"] = None if limits is None else measures(jbar * np.asarray(limits), ranks["system"])
+    out["system_normalized"] = (
+        None if limits is None else measures(jbar * np.asarray(limits), ranks["system"])
+    )
     out["restricted"] = any(r is not None for r in ranks.values())
     out["ranks"] = ranks
     return out

@@ -76,7 +76,9 @@ def sample_configurations(robot: MobileManipulator, samples: int = 64, seed: int
     return rng.uniform(low, high, size=(samples, robot.n_q))
 
 
-def ranks(robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL) -> tuple[np.ndarray, np.ndarray]:
+def ranks(
+    robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
+) -> tuple[np.ndarray, np.ndarray]:
     """(d(q), d̄(q)) = (rank J(q), rank J̄(q)), integer arrays with the leading shape of q."""
     j = np.asarray(K.jacobian(robot, q, task))
     jbar = np.asarray(K.reduced_jacobian(robot, q, task))
@@ -95,7 +97,12 @@ def redundancy_report(
     d, d_bar = ranks(robot, sample_configurations(robot, samples, seed), task, rtol)
     big_d, big_d_bar = int(d.max()), int(d_bar.max())
     return RedundancyReport(
-        M=robot.n_q, delta=robot.n_eta, D=big_d, R=robot.n_q - big_d, D_bar=big_d_bar, R_bar=robot.n_eta - big_d_bar
+        M=robot.n_q,
+        delta=robot.n_eta,
+        D=big_d,
+        R=robot.n_q - big_d,
+        D_bar=big_d_bar,
+        R_bar=robot.n_eta - big_d_bar,
     )
 
 
@@ -120,12 +127,16 @@ def is_velocity_singular(
     return _singularity(redundancy_report(robot, task, rtol=rtol).D_bar, d_bar)
 
 
-def is_consistent(robot: MobileManipulator, q, xi_dot, task: Task | None = None, rtol: float = RTOL) -> np.ndarray:
+def is_consistent(
+    robot: MobileManipulator, q, xi_dot, task: Task | None = None, rtol: float = RTOL
+) -> np.ndarray:
     """Consistency test rank[J̄ | ξ̇] = rank J̄ (Bayle §4.3): ξ̇ is realisable by some η (batched)."""
     return K.is_consistent(robot, q, xi_dot, task, rtol)
 
 
-def consistency_relations(robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL) -> np.ndarray:
+def consistency_relations(
+    robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
+) -> np.ndarray:
     """Rows y with yᵀ J̄(q) = 0 spanning the relations yᵀ ξ̇ = 0 that hold almost everywhere, (..., m − D̄, m).
 
     They are the left singular vectors of J̄ for its m − D̄ smallest singular values, orthonormal (Bayle §5.2).

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import inspect
 import itertools
-import math
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
@@ -144,8 +143,10 @@ class SymbolicRobot:
         self.constants = _Constants(robot, tuple(params), factory)
         self.params = self.constants.symbols
         c, s = sp.cos(self.q[2]), sp.sin(self.q[2])
-        self.platform_pose: Pose = (sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]]),
-                                    sp.Matrix([self.q[0], self.q[1], 0]))
+        self.platform_pose: Pose = (
+            sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]]),
+            sp.Matrix([self.q[0], self.q[1], 0]),
+        )
         self._links: dict[int, tuple[Pose, ...]] = {}
         self._jacobians: dict[Task, sp.Matrix] = {}
 
@@ -161,7 +162,8 @@ class SymbolicRobot:
             pose = self.mount_pose(arm)
             coupling = spec.coupling_matrix
             motion = sp.Matrix(*coupling.shape, [exact(v) for v in coupling.ravel()]) * sp.Matrix(
-                self.q[self.robot.arm_slice(arm)])
+                self.q[self.robot.arm_slice(arm)]
+            )
             poses = []
             for j, joint in enumerate(spec.joints):
                 pose = _compose(pose, self.constants.transform(f"arm{arm}.joint{j}.origin"))
@@ -214,8 +216,9 @@ class SymbolicRobot:
             g_p = sp.Matrix([[s, -c, 0]])
         elif isinstance(p, CarLike):
             length = self.constants.values["platform.length"]
-            g_p = sp.Matrix([[s, -c, 0, 0],
-                             [-sp.sin(q[2] + q[3]), sp.cos(q[2] + q[3]), length * sp.cos(q[3]), 0]])
+            g_p = sp.Matrix(
+                [[s, -c, 0, 0], [-sp.sin(q[2] + q[3]), sp.cos(q[2] + q[3]), length * sp.cos(q[3]), 0]]
+            )
         elif isinstance(p, Omnidirectional):
             return sp.zeros(0, robot.n_q)
         else:
@@ -279,7 +282,9 @@ class SymbolicRobot:
 
 
 @lru_cache(maxsize=32)
-def model(robot: MobileManipulator, params: tuple[str, ...] = (), factory: Callable | None = None) -> SymbolicRobot:
+def model(
+    robot: MobileManipulator, params: tuple[str, ...] = (), factory: Callable | None = None
+) -> SymbolicRobot:
     """The (cached) symbolic model of a robot with the given parameters kept as symbols."""
     return SymbolicRobot(robot, params, factory)
 
@@ -351,7 +356,7 @@ def _trig_normal(expr: sp.Expr, q: tuple[sp.Symbol, ...]) -> sp.Expr:
         if poly == 0:
             return poly
         forms = []
-        for order in (gens, (*c, *s, *gens[2 * len(q):])):
+        for order in (gens, (*c, *s, *gens[2 * len(q) :])):
             _, remainder = sp.reduced(poly, ideal, *order, order="lex")
             forms.append(sp.factor(remainder))
         return min(forms, key=sp.count_ops)
@@ -363,20 +368,29 @@ def _trig_normal(expr: sp.Expr, q: tuple[sp.Symbol, ...]) -> sp.Expr:
 # --- public functions -------------------------------------------------------------------------------
 
 
-def jacobian(robot: MobileManipulator, task: Task | None = None, params: Sequence[str] = (),
-             factory: Callable | None = None) -> sp.Matrix:
+def jacobian(
+    robot: MobileManipulator,
+    task: Task | None = None,
+    params: Sequence[str] = (),
+    factory: Callable | None = None,
+) -> sp.Matrix:
     """Symbolic J(q) = ∂f/∂q (``params``: robot parameters to keep as symbols)."""
     return model(robot, tuple(params), factory).jacobian(task)
 
 
-def reduced_jacobian(robot: MobileManipulator, task: Task | None = None, params: Sequence[str] = (),
-                     factory: Callable | None = None) -> sp.Matrix:
+def reduced_jacobian(
+    robot: MobileManipulator,
+    task: Task | None = None,
+    params: Sequence[str] = (),
+    factory: Callable | None = None,
+) -> sp.Matrix:
     """Symbolic J̄(q) = J(q) S(q) (Bayle eq. 2); print it with ``sympy.latex``."""
     return model(robot, tuple(params), factory).reduced_jacobian(task)
 
 
-def augmented_jacobian(robot: MobileManipulator, task: Task, params: Sequence[str] = (),
-                       factory: Callable | None = None) -> sp.Matrix:
+def augmented_jacobian(
+    robot: MobileManipulator, task: Task, params: Sequence[str] = (), factory: Callable | None = None
+) -> sp.Matrix:
     """Symbolic [G(q); J_task(q)] (Korayem eq. 30, 36, 37)."""
     return model(robot, tuple(params), factory).augmented_jacobian(task)
 
@@ -394,8 +408,13 @@ class RankDrop:
         return f"rank {self.rank} drops where {self.condition}"
 
 
-def rank_drop_conditions(robot: MobileManipulator, task: Task | None = None, params: Sequence[str] = (),
-                         factory: Callable | None = None, which: str = "velocity") -> RankDrop:
+def rank_drop_conditions(
+    robot: MobileManipulator,
+    task: Task | None = None,
+    params: Sequence[str] = (),
+    factory: Callable | None = None,
+    which: str = "velocity",
+) -> RankDrop:
     """Factored conditions for d̄(q) < D̄ (``which="velocity"``, VSC) or d(q) < D (``"kinematic"``, KSC)."""
     if which not in ("velocity", "kinematic"):
         raise ModelError(f"rank_drop_conditions: which must be 'velocity' or 'kinematic', got {which!r}")
@@ -405,16 +424,22 @@ def rank_drop_conditions(robot: MobileManipulator, task: Task | None = None, par
     if r == a.rows == a.cols:
         expressions = [a.det()]
     else:
-        expressions = [a.extract(list(rows), list(cols)).det()
-                       for rows in itertools.combinations(range(a.rows), r)
-                       for cols in itertools.combinations(range(a.cols), r)]
+        expressions = [
+            a.extract(list(rows), list(cols)).det()
+            for rows in itertools.combinations(range(a.rows), r)
+            for cols in itertools.combinations(range(a.cols), r)
+        ]
     expressions = [trig_normal(e, sym.q) for e in expressions]
     expressions = _distinct(e for e in expressions if e != 0)
     return RankDrop(r, tuple(expressions), _condition(expressions))
 
 
-def consistency_relations(robot: MobileManipulator, task: Task | None = None, params: Sequence[str] = (),
-                          factory: Callable | None = None) -> sp.Matrix:
+def consistency_relations(
+    robot: MobileManipulator,
+    task: Task | None = None,
+    params: Sequence[str] = (),
+    factory: Callable | None = None,
+) -> sp.Matrix:
     """Rows y(q) with y J̄ = 0 where D̄ < m: ξ̇ is admissible iff y ξ̇ = 0 (Bayle §4.3, §5.2), simplified with
     denominators and common factors cleared. Valid where the rows do not all vanish (off the VSC)."""
     sym = model(robot, tuple(params), factory)
@@ -460,8 +485,11 @@ def _condition(expressions: Sequence[sp.Expr]) -> sp.Basic:
     logic = sp.simplify_logic(sp.And(*clauses), form="dnf", force=True)
     terms = logic.args if isinstance(logic, sp.Or) else (logic,)
     # sin u and cos u never vanish together: drop such terms
-    impossible = [{atoms[f], atoms[sp.cos(f.args[0])]} for f in atoms
-                  if isinstance(f, sp.sin) and sp.cos(f.args[0]) in atoms]
+    impossible = [
+        {atoms[f], atoms[sp.cos(f.args[0])]}
+        for f in atoms
+        if isinstance(f, sp.sin) and sp.cos(f.args[0]) in atoms
+    ]
     terms = [t for t in terms if not any(pair <= set(sp.And.make_args(t)) for pair in impossible)]
     return sp.Or(*terms).subs({s: sp.Eq(f, 0) for f, s in atoms.items()})
 

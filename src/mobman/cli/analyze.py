@@ -65,18 +65,29 @@ def analysis(robot: MobileManipulator, q: np.ndarray) -> dict:
     results = []
     for k in range(q.shape[0]):
         manipulability = {
-            level: None if measures[level] is None else {name: float(v[k]) for name, v in measures[level].items()}
+            level: None
+            if measures[level] is None
+            else {name: float(v[k]) for name, v in measures[level].items()}
             for level in LEVELS
         }
         manipulability["restricted"] = bool(measures["restricted"])
         manipulability["measure_rank"] = measures["ranks"]
-        results.append({
-            "q": q[k], "xi": xi[k], "J": jac[k], "J_bar": jbar[k],
-            "rank_J": int(d[k]), "rank_J_bar": int(d_bar[k]), "singular_values": sigma[k],
-            "kinematic_singular": bool(ksc.singular[k]), "kinematic_singularity_order": int(ksc.order[k]),
-            "velocity_singular": bool(vsc.singular[k]), "velocity_singularity_order": int(vsc.order[k]),
-            "manipulability": manipulability,
-        })
+        results.append(
+            {
+                "q": q[k],
+                "xi": xi[k],
+                "J": jac[k],
+                "J_bar": jbar[k],
+                "rank_J": int(d[k]),
+                "rank_J_bar": int(d_bar[k]),
+                "singular_values": sigma[k],
+                "kinematic_singular": bool(ksc.singular[k]),
+                "kinematic_singularity_order": int(ksc.order[k]),
+                "velocity_singular": bool(vsc.singular[k]),
+                "velocity_singularity_order": int(vsc.order[k]),
+                "manipulability": manipulability,
+            }
+        )
     return {
         "robot": robot.name,
         "params": dict(robot.parameters),
@@ -109,10 +120,16 @@ def symbolic_analysis(robot: MobileManipulator) -> dict:
 def analyze_command(
     robot_name: str = typer.Argument(..., metavar="ROBOT", help="A built-in robot (see `mobman robots`)."),
     param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
-    q: str = typer.Option(None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."),
-    q_file: Path = typer.Option(None, "--q-file", help="CSV file: one configuration per row, optional header."),
+    q: str = typer.Option(
+        None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."
+    ),
+    q_file: Path = typer.Option(
+        None, "--q-file", help="CSV file: one configuration per row, optional header."
+    ),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
-    symbolic: bool = typer.Option(False, "--symbolic", help="Also give J̄ in closed form and rank-drop conditions."),
+    symbolic: bool = typer.Option(
+        False, "--symbolic", help="Also give J̄ in closed form and rank-drop conditions."
+    ),
 ) -> None:
     """Kinematics, redundancy (M, δ, D, R, D̄, R̄), singularities and manipulability at configurations."""
     robot = load_robot(robot_name, param)
@@ -128,8 +145,9 @@ def analyze_command(
 
 
 def _fmt(values, digits: int = 4) -> str:
-    return np.array2string(np.asarray(values, dtype=float), precision=digits, suppress_small=True,
-                           max_line_width=120)
+    return np.array2string(
+        np.asarray(values, dtype=float), precision=digits, suppress_small=True, max_line_width=120
+    )
 
 
 def _print(result: dict, sym: dict | None) -> None:
@@ -154,8 +172,12 @@ def _print(result: dict, sym: dict | None) -> None:
         table.add_row("J̄", _fmt(r["J_bar"]))
         table.add_row("rank J, rank J̄", f"{r['rank_J']}, {r['rank_J_bar']}")
         table.add_row("singular values of J̄", _fmt(r["singular_values"], 6))
-        table.add_row("kinematic singular (order)", f"{r['kinematic_singular']} ({r['kinematic_singularity_order']})")
-        table.add_row("velocity singular (order)", f"{r['velocity_singular']} ({r['velocity_singularity_order']})")
+        table.add_row(
+            "kinematic singular (order)", f"{r['kinematic_singular']} ({r['kinematic_singularity_order']})"
+        )
+        table.add_row(
+            "velocity singular (order)", f"{r['velocity_singular']} ({r['velocity_singularity_order']})"
+        )
         console.print(table)
         man = r["manipulability"]
         ranks = man["measure_rank"]
@@ -168,7 +190,9 @@ def _print(result: dict, sym: dict | None) -> None:
             if m is None:
                 mtable.add_row(label, "—", "—", "—")
             else:
-                mtable.add_row(label, *(f"{m[k]:.6g}" for k in ("yoshikawa", "inverse_condition", "eccentricity")))
+                mtable.add_row(
+                    label, *(f"{m[k]:.6g}" for k in ("yoshikawa", "inverse_condition", "eccentricity"))
+                )
         console.print(mtable)
     if sym is not None:
         console.print(f"J̄(q), q = ({', '.join(sym['coordinates'])}):")

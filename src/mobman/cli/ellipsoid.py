@@ -70,16 +70,26 @@ def _positive(value: float, field: str) -> float:
 @app.command("ellipsoid")
 def ellipsoid_command(
     robot_name: str = typer.Argument(..., metavar="ROBOT", help="A built-in robot (see `mobman robots`)."),
-    q: str = typer.Option(..., "--q", help="The configuration v1,v2,… in the robot's coordinate order (pi allowed)."),
-    kind: str = typer.Option("kinematic", "--kind", help="kinematic (velocities) or dynamic (accelerations)."),
+    q: str = typer.Option(
+        ..., "--q", help="The configuration v1,v2,… in the robot's coordinate order (pi allowed)."
+    ),
+    kind: str = typer.Option(
+        "kinematic", "--kind", help="kinematic (velocities) or dynamic (accelerations)."
+    ),
     param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
-    held: bool = typer.Option(False, "--held", help="Ellipsoid of an object held by all the arms (see --grasp)."),
-    grasp: str = typer.Option("rigid", "--grasp", help="--held: rigid, or point (hands at one point, pivots)."),
+    held: bool = typer.Option(
+        False, "--held", help="Ellipsoid of an object held by all the arms (see --grasp)."
+    ),
+    grasp: str = typer.Option(
+        "rigid", "--grasp", help="--held: rigid, or point (hands at one point, pivots)."
+    ),
     object_mass: float = typer.Option(2.0, "--object-mass", help="Held object's mass, kg (dynamic, --held)."),
-    object_inertia: float = typer.Option(0.01, "--object-inertia",
-                                         help="Held object's inertia about the vertical, kg m² (dynamic, --held)."),
-    method: str = typer.Option("exact", "--method",
-                               help="Dynamic: exact (image of the torque ball) or paper (eq. 31–38)."),
+    object_inertia: float = typer.Option(
+        0.01, "--object-inertia", help="Held object's inertia about the vertical, kg m² (dynamic, --held)."
+    ),
+    method: str = typer.Option(
+        "exact", "--method", help="Dynamic: exact (image of the torque ball) or paper (eq. 31–38)."
+    ),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Principal axes (major first), directions and volume of the kinematic or dynamic task-space ellipsoid."""
@@ -98,8 +108,10 @@ def ellipsoid_command(
         model, limits = dynamic_model(robot_name, robot)
         obj = None
         if held:
-            obj = HeldObject(_positive(object_mass, "--object-mass"),
-                             (0.0, 0.0, _positive(object_inertia, "--object-inertia")))
+            obj = HeldObject(
+                _positive(object_mass, "--object-mass"),
+                (0.0, 0.0, _positive(object_inertia, "--object-inertia")),
+            )
         e = dynamic_ellipsoid(model, configuration, limits, obj=obj, method=method, grasp=grasp)
     result = {
         "robot": robot.name,

@@ -16,7 +16,9 @@ from mobman.experiments import REPRODUCTIONS, module
 @app.command("reproduce")
 def reproduce_command(
     name: str = typer.Argument(..., help=f"one of: all, {', '.join(REPRODUCTIONS)}"),
-    out: Path = typer.Option(Path("mobman-results"), "--out", help="Output folder (one subfolder per paper)."),
+    out: Path = typer.Option(
+        Path("mobman-results"), "--out", help="Output folder (one subfolder per paper)."
+    ),
     quick: bool = typer.Option(False, "--quick", help="Reduced resolution (as in the test suite)."),
 ) -> None:
     """Reproduce one paper's worked examples (or all of them) into OUT, with an index page."""

@@ -20,8 +20,14 @@ def robots_command(json_output: bool = typer.Option(False, "--json", help="Print
     for name, factory in ROBOTS.items():
         robot = factory()
         defaults = {p.name: p.default for p in inspect.signature(factory).parameters.values()}
-        entries.append({**robot.describe(), "name": name, "parameters": defaults,
-                        "summary": (factory.__doc__ or "").strip().splitlines()[0]})
+        entries.append(
+            {
+                **robot.describe(),
+                "name": name,
+                "parameters": defaults,
+                "summary": (factory.__doc__ or "").strip().splitlines()[0],
+            }
+        )
     if json_output:
         typer.echo(dump_json({"robots": entries}))
         return

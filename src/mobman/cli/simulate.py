@@ -25,7 +25,12 @@ def _run(spec, quiet: bool):
     steps = int(round(spec.duration / spec.dt)) + 1
     if quiet or steps <= PROGRESS_STEPS:
         return simulate(*args, **kwargs)
-    columns = (TextColumn("simulating"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"), TimeRemainingColumn())
+    columns = (
+        TextColumn("simulating"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeRemainingColumn(),
+    )
     with Progress(*columns, console=Console(stderr=True), transient=True) as progress:
         bar = progress.add_task("simulate", total=1.0)
         return simulate(*args, **kwargs, progress=lambda f: progress.update(bar, completed=f))
@@ -36,14 +41,25 @@ def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
 
     out.mkdir(parents=True, exist_ok=True)
     series = {
-        "t": result.t, "q": result.q, "eta": result.eta, "xi": result.xi, "xi_star": result.xi_star,
-        "error": result.error, "measures": result.measures, "saturated": result.saturated, "damped": result.damped,
+        "t": result.t,
+        "q": result.q,
+        "eta": result.eta,
+        "xi": result.xi,
+        "xi_star": result.xi_star,
+        "error": result.error,
+        "measures": result.measures,
+        "saturated": result.saturated,
+        "damped": result.damped,
     }
-    (out / "results.json").write_text(dump_json({"spec": str(spec_path), "metrics": summary, "series": series}))
+    (out / "results.json").write_text(
+        dump_json({"spec": str(spec_path), "metrics": summary, "series": series})
+    )
     figures = [out / "paths.png", out / "timeseries.png"]
     plot_paths(result.robot, result.q, reference=result.xi_star[:, :2]).savefig(figures[0], dpi=120)
-    panels = {"‖ξ* − ξ‖": {"error": np.linalg.norm(result.error, axis=-1)}, "η": {
-        name: result.eta[:, i] for i, name in enumerate(result.robot.control_names)}}
+    panels = {
+        "‖ξ* − ξ‖": {"error": np.linalg.norm(result.error, axis=-1)},
+        "η": {name: result.eta[:, i] for i, name in enumerate(result.robot.control_names)},
+    }
     if result.measures:
         panels["measures"] = dict(result.measures)
     plot_timeseries(result.t, panels).savefig(figures[1], dpi=120)
@@ -72,8 +88,11 @@ def simulate_command(
     table.add_column("metric")
     table.add_column("value", justify="right")
     for key, value in summary.items():
-        shown = ", ".join(f"{v:.4g}" for v in value) if isinstance(value, list) else (
-            f"{value:.4g}" if isinstance(value, float) else str(value))
+        shown = (
+            ", ".join(f"{v:.4g}" for v in value)
+            if isinstance(value, list)
+            else (f"{value:.4g}" if isinstance(value, float) else str(value))
+        )
         table.add_row(key, shown)
     Console().print(table)
     if out is not None:

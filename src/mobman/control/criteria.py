@@ -91,7 +91,9 @@ class Manipulability(Criterion):
         from mobman import manipulability as mp
 
         if self.which == "system_normalized" and robot.velocity_limits is None:
-            raise ModelError(f"{robot.name}: the normalised measure needs velocity limits for every quasi-velocity")
+            raise ModelError(
+                f"{robot.name}: the normalised measure needs velocity limits for every quasi-velocity"
+            )
         jac = measure_jacobian(robot, q, task, self.which)
         return self.sign * mp.measures(jac, rank=self.rank)[self.measure] ** self.power
 

@@ -59,7 +59,9 @@ def _gain(value, name: str, owner: str, allow_zero: bool = False) -> np.ndarray:
         raise ModelError(f"{owner}: {name} must be a finite scalar, vector or square matrix, got {value!r}")
     eig = np.linalg.eigvalsh(0.5 * (arr + arr.T)) if arr.ndim == 2 else arr
     if np.any(eig < 0) or (not allow_zero and np.any(eig <= 0)):
-        raise ModelError(f"{owner}: {name} must be positive {'semi-' if allow_zero else ''}definite, got {value!r}")
+        raise ModelError(
+            f"{owner}: {name} must be positive {'semi-' if allow_zero else ''}definite, got {value!r}"
+        )
     return arr
 
 
@@ -67,7 +69,9 @@ def apply_gain(gain: jnp.ndarray, e: jnp.ndarray, name: str = "gain") -> jnp.nda
     """W e for a scalar, diagonal (vector) or full (matrix) gain."""
     if gain.ndim == 2:
         if gain.shape[1] != e.shape[-1]:
-            raise ModelError(f"{name} is {gain.shape[0]} × {gain.shape[1]}, the error has {e.shape[-1]} components")
+            raise ModelError(
+                f"{name} is {gain.shape[0]} × {gain.shape[1]}, the error has {e.shape[-1]} components"
+            )
         return gain @ e
     if gain.ndim == 1 and gain.shape[0] != e.shape[-1]:
         raise ModelError(f"{name} has {gain.shape[0]} values, the error has {e.shape[-1]} components")
@@ -107,9 +111,14 @@ class _Law:
     def _check_options(self, owner: str) -> None:
         if not (np.ndim(self.damping) == 0 and np.isfinite(self.damping) and self.damping >= 0):
             raise ModelError(f"{owner}: damping must be a finite number ≥ 0, got {self.damping!r}")
-        if not (np.ndim(self.damping_threshold) == 0 and np.isfinite(self.damping_threshold)
-                and self.damping_threshold > 0):
-            raise ModelError(f"{owner}: damping_threshold must be a number > 0, got {self.damping_threshold!r}")
+        if not (
+            np.ndim(self.damping_threshold) == 0
+            and np.isfinite(self.damping_threshold)
+            and self.damping_threshold > 0
+        ):
+            raise ModelError(
+                f"{owner}: damping_threshold must be a number > 0, got {self.damping_threshold!r}"
+            )
         object.__setattr__(self, "damping", np.float64(self.damping))
         object.__setattr__(self, "damping_threshold", np.float64(self.damping_threshold))
 
@@ -117,7 +126,9 @@ class _Law:
         limits = robot.velocity_limits
         if limits is None and (self.normalized or self.saturate):
             option = "normalized" if self.normalized else "saturate"
-            raise ModelError(f"{type(self).__name__}: {option}=True needs velocity limits, {robot.name} has none")
+            raise ModelError(
+                f"{type(self).__name__}: {option}=True needs velocity limits, {robot.name} has none"
+            )
         return None if limits is None else np.asarray(limits)
 
     def _scale(self, robot) -> np.ndarray:

@@ -30,7 +30,9 @@ TIMINGS = ("linear", "cubic", "quintic")
 def _vector(value, name: str, owner: str, size: int | None = None) -> np.ndarray:
     arr = np.atleast_1d(np.asarray(value, dtype=float))
     if arr.ndim != 1 or (size is not None and arr.size != size):
-        raise ModelError(f"{owner}: {name} must be a vector of {size or 'one or more'} numbers, got {value!r}")
+        raise ModelError(
+            f"{owner}: {name} must be a vector of {size or 'one or more'} numbers, got {value!r}"
+        )
     if not np.all(np.isfinite(arr)):
         raise ModelError(f"{owner}: {name} must be finite, got {value!r}")
     return arr
@@ -139,8 +141,12 @@ class Ellipse(Reference):
         rot = jnp.stack([jnp.stack([c, -s]), jnp.stack([s, c])])
         xy = jnp.asarray(self.center[:2]) + rot @ jnp.stack([a * jnp.cos(phi), b * jnp.sin(phi)])
         vxy = rot @ jnp.stack([-a * rate * jnp.sin(phi), b * rate * jnp.cos(phi)])
-        extra = jnp.concatenate([jnp.asarray(self.center)[2:], jnp.reshape(jnp.asarray(
-            [] if self.angle is None else self.angle, dtype=xy.dtype), (-1,))])
+        extra = jnp.concatenate(
+            [
+                jnp.asarray(self.center)[2:],
+                jnp.reshape(jnp.asarray([] if self.angle is None else self.angle, dtype=xy.dtype), (-1,)),
+            ]
+        )
         return jnp.concatenate([xy, extra]), jnp.concatenate([vxy, jnp.zeros_like(extra)])
 
 
@@ -242,4 +248,14 @@ def stack(*parts: Reference) -> Stack:
     return Stack(tuple(parts))
 
 
-__all__ = ["Ellipse", "FunctionReference", "Line", "Polyline", "Reference", "Stack", "TIMINGS", "stack", "timing_law"]
+__all__ = [
+    "Ellipse",
+    "FunctionReference",
+    "Line",
+    "Polyline",
+    "Reference",
+    "Stack",
+    "TIMINGS",
+    "stack",
+    "timing_law",
+]

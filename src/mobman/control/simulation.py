@@ -225,7 +225,9 @@ def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarr
     if not len(flat):
         raise InputError(f"measures: q holds no configuration (shape {q.shape})")
     pad = -len(flat) % _MEASURE_CHUNK
-    chunks = np.concatenate([flat, np.repeat(flat[-1:], pad, axis=0)]).reshape(-1, _MEASURE_CHUNK, q.shape[-1])
+    chunks = np.concatenate([flat, np.repeat(flat[-1:], pad, axis=0)]).reshape(
+        -1, _MEASURE_CHUNK, q.shape[-1]
+    )
     out: dict[str, np.ndarray] = {}
     cache: dict[str, dict] = {}
     for name, which, measure in parsed:
@@ -278,7 +280,9 @@ def simulate(
         raise InputError("law: give one law or a non-empty list of laws")
     ctask = controlled_task(laws[0], task)
     if reference.dim != ctask.dim:
-        raise ModelError(f"reference has {reference.dim} components, the controlled task {ctask.names} has {ctask.dim}")
+        raise ModelError(
+            f"reference has {reference.dim} components, the controlled task {ctask.names} has {ctask.dim}"
+        )
     q0 = robot.validate_q(q0)
     if q0.ndim > 2:
         raise InputError(f"q0: one configuration (n_q,) or a batch (B, n_q), got shape {q0.shape}")
@@ -291,7 +295,9 @@ def simulate(
     chunk = n if progress is None else max(1, min(chunk, n))
     pieces, q, k0 = [], jnp.asarray(q0), 0
     while k0 < n:
-        q, out = _run(robot, task, integrator, chunk, float(dt), reference, law_arg, q, batch_law, batch_q, float(k0))
+        q, out = _run(
+            robot, task, integrator, chunk, float(dt), reference, law_arg, q, batch_law, batch_q, float(k0)
+        )
         pieces.append(out)
         k0 += chunk
         if progress is not None:

@@ -20,6 +20,7 @@ Actuator order τ = (τ_wheel_right, τ_wheel_left, τ_joints…) (``model.actua
 a differential drive are actuated directly on their quasi-velocities (one generalized force per η_p).
 """
 
+from mobman.dynamics.actuators import DCMotor, TorqueBox
 from mobman.dynamics.equations import (
     actuation_matrix,
     bias,
@@ -29,8 +30,8 @@ from mobman.dynamics.equations import (
     potential_energy,
     wheel_angle_rates,
 )
-from mobman.dynamics.actuators import DCMotor, TorqueBox
 from mobman.dynamics.inertia import DynamicModel, Payload, PlatformBody, Wheel, yamamoto_platform
+from mobman.dynamics.load_capacity import InfeasibleMotionError, LoadCapacity, load_torques, max_load
 from mobman.dynamics.reduced import (
     constraint_forces,
     energy,
@@ -40,7 +41,6 @@ from mobman.dynamics.reduced import (
     reduced_bias,
     reduced_mass_matrix,
 )
-from mobman.dynamics.load_capacity import InfeasibleMotionError, LoadCapacity, load_torques, max_load
 from mobman.dynamics.simulation import SimulationResult, simulate, zero_torque
 
 
@@ -53,9 +53,33 @@ def yamamoto_model(payload: Payload | None = None, gravity=(0.0, 0.0, 0.0)) -> D
 
 
 __all__ = [
-    "DynamicModel", "Payload", "PlatformBody", "Wheel", "actuation_matrix", "bias", "constraint_forces",
-    "coriolis_matrix", "energy", "forward_dynamics", "gravity_vector", "input_matrix", "inverse_dynamics",
-    "mass_matrix", "potential_energy", "reduced_bias", "reduced_mass_matrix", "SimulationResult", "simulate",
-    "wheel_angle_rates", "yamamoto_model", "yamamoto_platform", "zero_torque",
-    "DCMotor", "InfeasibleMotionError", "LoadCapacity", "TorqueBox", "load_torques", "max_load",
+    "DynamicModel",
+    "Payload",
+    "PlatformBody",
+    "Wheel",
+    "actuation_matrix",
+    "bias",
+    "constraint_forces",
+    "coriolis_matrix",
+    "energy",
+    "forward_dynamics",
+    "gravity_vector",
+    "input_matrix",
+    "inverse_dynamics",
+    "mass_matrix",
+    "potential_energy",
+    "reduced_bias",
+    "reduced_mass_matrix",
+    "SimulationResult",
+    "simulate",
+    "wheel_angle_rates",
+    "yamamoto_model",
+    "yamamoto_platform",
+    "zero_torque",
+    "DCMotor",
+    "InfeasibleMotionError",
+    "LoadCapacity",
+    "TorqueBox",
+    "load_torques",
+    "max_load",
 ]

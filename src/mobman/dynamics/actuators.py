@@ -81,8 +81,12 @@ class DCMotor(_AffineEnvelope):
     no_load_speed: float
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "stall_torque", checks.positive(self.stall_torque, "stall_torque", "DCMotor"))
-        object.__setattr__(self, "no_load_speed", checks.positive(self.no_load_speed, "no_load_speed", "DCMotor"))
+        object.__setattr__(
+            self, "stall_torque", checks.positive(self.stall_torque, "stall_torque", "DCMotor")
+        )
+        object.__setattr__(
+            self, "no_load_speed", checks.positive(self.no_load_speed, "no_load_speed", "DCMotor")
+        )
 
     @property
     def k1(self) -> float:

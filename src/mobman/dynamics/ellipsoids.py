@@ -109,8 +109,12 @@ class Ellipsoid:
     def projection(self, keep: Sequence[int]) -> "Ellipsoid":
         """The shadow of E on the coordinates ``keep`` (the others free)."""
         keep = list(keep)
-        return Ellipsoid(self.center[..., keep], self.matrix[..., keep, :],
-                         tuple(self.names[i] for i in keep), self.feasible)
+        return Ellipsoid(
+            self.center[..., keep],
+            self.matrix[..., keep, :],
+            tuple(self.names[i] for i in keep),
+            self.feasible,
+        )
 
     def section(self, keep: Sequence[int], at: Sequence[float] | None = None) -> "Ellipsoid":
         """The slice of E where the other coordinates equal ``at`` (zero by default), on the coordinates ``keep``.
@@ -133,8 +137,9 @@ class Ellipsoid:
         vals, vecs = np.linalg.eigh((cond + np.swapaxes(cond, -1, -2)) / 2)
         root = vecs * np.sqrt(np.clip(vals, 0.0, None))[..., None, :] @ np.swapaxes(vecs, -1, -2)
         scale = np.sqrt(np.clip(rho2, 0.0, None))[..., None, None]
-        return Ellipsoid(center, root * scale, tuple(self.names[i] for i in keep),
-                         np.logical_and(self.feasible, rho2 >= 0))
+        return Ellipsoid(
+            center, root * scale, tuple(self.names[i] for i in keep), np.logical_and(self.feasible, rho2 >= 0)
+        )
 
     def contains(self, x, tol: float = 1e-9) -> np.ndarray:
         """Whether points x (..., m) lie in E (Σ invertible), up to ``tol`` on the quadratic form."""
@@ -196,8 +201,12 @@ def grasp_task(robot: MobileManipulator, grasp: Grasp = "rigid") -> Task:
     frame for a rigid grasp, the tool point (x, y) for a point grasp."""
     if grasp == "point":
         return stack(*[Position("xy", arm=i, label=f"ee{i + 1}") for i in range(len(robot.arms))])
-    return stack(*[stack(Position("xy", arm=i, label=f"ee{i + 1}"), PlanarAngle(arm=i))
-                   for i in range(len(robot.arms))])
+    return stack(
+        *[
+            stack(Position("xy", arm=i, label=f"ee{i + 1}"), PlanarAngle(arm=i))
+            for i in range(len(robot.arms))
+        ]
+    )
 
 
 OBJECT_NAMES = ("x_o", "y_o", "angle_o")
@@ -212,8 +221,9 @@ def point_grasp_matrix(n_arms: int) -> np.ndarray:
 
 
 def _tool_points(robot: MobileManipulator, q: jnp.ndarray) -> jnp.ndarray:
-    return jnp.stack([kinematics.forward(robot, q, Position("xy", arm=i)) for i in range(len(robot.arms))],
-                     axis=-2)
+    return jnp.stack(
+        [kinematics.forward(robot, q, Position("xy", arm=i)) for i in range(len(robot.arms))], axis=-2
+    )
 
 
 def grasp_offsets(robot: MobileManipulator, q) -> jnp.ndarray:
@@ -224,14 +234,18 @@ def grasp_offsets(robot: MobileManipulator, q) -> jnp.ndarray:
 
 def _check_held(robot: MobileManipulator, grasp: str, q) -> None:
     if len(robot.arms) < 2:
-        raise ModelError(f"{robot.name}: a held object needs two or more arms, the robot has {len(robot.arms)}")
+        raise ModelError(
+            f"{robot.name}: a held object needs two or more arms, the robot has {len(robot.arms)}"
+        )
     if grasp not in GRASPS:
         raise InputError(f"grasp must be one of {', '.join(GRASPS)}, got {grasp!r}")
     if grasp == "point":
         spread = float(np.max(np.abs(np.asarray(grasp_offsets(robot, q)))))
         if spread > POINT_TOLERANCE:
-            raise InputError(f"grasp='point' needs all tool points at one point (the object's centre of mass); "
-                             f"they are up to {spread:.3g} m from their centroid")
+            raise InputError(
+                f"grasp='point' needs all tool points at one point (the object's centre of mass); "
+                f"they are up to {spread:.3g} m from their centroid"
+            )
 
 
 def _scale(value, name: str) -> np.ndarray:
@@ -314,7 +328,9 @@ class _Terms:
 
 
 @partial(jax.jit, static_argnums=(0, 1, 2, 3, 4, 5))
-def _dynamic_terms(model, task: Task, obj: HeldObject | None, grasp: str, wheels: bool, at_rest: bool, q, eta):
+def _dynamic_terms(
+    model, task: Task, obj: HeldObject | None, grasp: str, wheels: bool, at_rest: bool, q, eta
+):
     from mobman import dynamics as dyn
 
     robot = model.robot
@@ -374,7 +390,9 @@ def _t(a: np.ndarray) -> np.ndarray:
 def _paper(terms: _Terms, tau_max: np.ndarray):
     """Eq. 31–38: τ = Λ_o a_o + μ_o with u̇ = J⁺(Wᵀ a_o − drift), h = W⁺(M_o a_o + c_o + g_o)."""
     j_plus, w_plus = np.linalg.pinv(terms.j), np.linalg.pinv(terms.w)
-    lam = np.linalg.solve(terms.q, terms.p @ j_plus @ _t(terms.w) + _t(terms.j) @ w_plus @ terms.m_o)  # eq. 34
+    lam = np.linalg.solve(
+        terms.q, terms.p @ j_plus @ _t(terms.w) + _t(terms.j) @ w_plus @ terms.m_o
+    )  # eq. 34
     mu_rhs = terms.b - _mv(terms.p @ j_plus, terms.drift) + _mv(_t(terms.j) @ w_plus, terms.bias_o)
     mu = np.linalg.solve(terms.q, mu_rhs[..., None])[..., 0]  # eq. 35, corrected
     lam_bar, mu_bar = lam / tau_max[..., :, None], mu / tau_max  # eq. 36
@@ -408,8 +426,17 @@ def _exact(terms: _Terms, tau_max: np.ndarray):
     return np.broadcast_to(g0, matrix.shape[:-1]), matrix, np.ones(matrix.shape[:-2], dtype=bool)
 
 
-def dynamic_terms(model, q, *, eta=None, obj: HeldObject | None = None, task: Task | None = None,
-                  interaction: bool = True, platform_fixed: bool = False, grasp: Grasp = "rigid") -> _Terms:
+def dynamic_terms(
+    model,
+    q,
+    *,
+    eta=None,
+    obj: HeldObject | None = None,
+    task: Task | None = None,
+    interaction: bool = True,
+    platform_fixed: bool = False,
+    grasp: Grasp = "rigid",
+) -> _Terms:
     """The matrices of eq. 16, 21, 22 in actuator coordinates (wheels, joints), batched over q and η.
 
     ``interaction=False`` zeroes the platform–arm blocks of P; ``platform_fixed=True`` keeps only the arms'
@@ -430,8 +457,16 @@ def dynamic_terms(model, q, *, eta=None, obj: HeldObject | None = None, task: Ta
     terms = _Terms(*(np.asarray(x) for x in raw))
     p = terms.p if interaction else terms.p * _interaction_mask(robot)
     keep = np.arange(robot.platform.n_eta if platform_fixed else 0, robot.n_eta)
-    return _Terms(p[..., keep[:, None], keep], terms.q[..., keep[:, None], keep], terms.b[..., keep],
-                  terms.j[..., keep], terms.drift, terms.w, terms.m_o, terms.bias_o)
+    return _Terms(
+        p[..., keep[:, None], keep],
+        terms.q[..., keep[:, None], keep],
+        terms.b[..., keep],
+        terms.j[..., keep],
+        terms.drift,
+        terms.w,
+        terms.m_o,
+        terms.bias_o,
+    )
 
 
 def dynamic_ellipsoid(
@@ -471,8 +506,16 @@ def dynamic_ellipsoid(
     scale = _scale(platform_scale, "platform_scale")
     if np.any(scale <= 0):
         raise InputError("platform_scale must be > 0 for the dynamic ellipsoid")
-    terms = dynamic_terms(model, q, eta=eta, obj=obj, task=task, interaction=interaction,
-                          platform_fixed=platform_fixed, grasp=grasp)
+    terms = dynamic_terms(
+        model,
+        q,
+        eta=eta,
+        obj=obj,
+        task=task,
+        interaction=interaction,
+        platform_fixed=platform_fixed,
+        grasp=grasp,
+    )
     is_platform = np.arange(robot.n_eta) < robot.platform.n_eta
     tau_max = limits * np.where(is_platform, scale[..., None], 1.0)
     if platform_fixed:

@@ -54,8 +54,16 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
     """
     robot = model.robot
     r_p, p_p = frames.platform
-    result = [Body(model.body.mass, p_p + r_p @ np.asarray(model.body.com), r_p,
-                   np.diag([0.0, 0.0, model.body.inertia_z]), None, 0)]
+    result = [
+        Body(
+            model.body.mass,
+            p_p + r_p @ np.asarray(model.body.com),
+            r_p,
+            np.diag([0.0, 0.0, model.body.inertia_z]),
+            None,
+            0,
+        )
+    ]
     if isinstance(robot.platform, DifferentialDrive) and model.wheel is not None:
         b, r, w = robot.platform.half_track, robot.platform.wheel_radius, model.wheel
         for side in (1.0, -1.0):
@@ -75,8 +83,11 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
             rs, ps = frames.links[payload.arm]
             n = robot.arms[payload.arm].n_joints
             point = ps[n] + rs[n] @ np.asarray(payload.com)
-            result.append(Body(payload.mass, point, rs[n], np.asarray(payload.inertia).reshape(3, 3),
-                               payload.arm, n - 1))
+            result.append(
+                Body(
+                    payload.mass, point, rs[n], np.asarray(payload.inertia).reshape(3, 3), payload.arm, n - 1
+                )
+            )
     return result
 
 
@@ -85,8 +96,12 @@ def wheel_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
     robot = model.robot
     b, r = robot.platform.half_track, robot.platform.wheel_radius
     c, s = jnp.cos(q[2]), jnp.sin(q[2])
-    rows = [jnp.concatenate([jnp.stack([c, s, side * b * jnp.ones_like(c)]) / r,
-                             jnp.zeros(robot.n_q - 3, dtype=q.dtype)]) for side in (1.0, -1.0)]
+    rows = [
+        jnp.concatenate(
+            [jnp.stack([c, s, side * b * jnp.ones_like(c)]) / r, jnp.zeros(robot.n_q - 3, dtype=q.dtype)]
+        )
+        for side in (1.0, -1.0)
+    ]
     return jnp.stack(rows)
 
 
@@ -102,7 +117,7 @@ def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | N
         members = [body for body in parts if body.arm == arm]
         points = jnp.stack([body.point for body in members])
         upto = jnp.array([body.upto for body in members])
-        lin, ang = jax.vmap(lambda p, u: robot.point_jacobian(q, frames, p, arm, u))(points, upto)
+        lin, ang = jax.vmap(lambda p, u, arm=arm: robot.point_jacobian(q, frames, p, arm, u))(points, upto)
         j_v.append(lin)
         j_w.append(ang)
     j_v, j_w = jnp.concatenate(j_v), jnp.concatenate(j_w)
@@ -116,10 +131,14 @@ def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | N
     return m
 
 
-def potential_energy_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
+def potential_energy_one(
+    model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None
+) -> jnp.ndarray:
     """V(q) = −Σ m gravityᵀ p_com for one configuration."""
     gravity = np.asarray(model.gravity)
-    return -sum(body.mass * (gravity @ body.point) for body in bodies(model, model.robot.frames(q), payload_mass))
+    return -sum(
+        body.mass * (gravity @ body.point) for body in bodies(model, model.robot.frames(q), payload_mass)
+    )
 
 
 def gravity_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
@@ -257,6 +276,13 @@ def wheel_angle_rates(model: DynamicModel, q, q_dot) -> jnp.ndarray:
 
 
 __all__ = [
-    "Body", "actuation_matrix", "bias", "bodies", "coriolis_matrix", "gravity_vector", "mass_matrix",
-    "potential_energy", "wheel_angle_rates",
+    "Body",
+    "actuation_matrix",
+    "bias",
+    "bodies",
+    "coriolis_matrix",
+    "gravity_vector",
+    "mass_matrix",
+    "potential_energy",
+    "wheel_angle_rates",
 ]

@@ -140,7 +140,9 @@ class HeldObject:
         if v_o.shape[-1] == 3:
             return jnp.broadcast_to(jnp.array([-self.mass * g[0], -self.mass * g[1], 0.0]), v_o.shape)
         if v_o.shape[-1] != 6:
-            raise InputError(f"HeldObject.bias: v_o needs 3 (planar) or 6 (spatial) components, got {v_o.shape}")
+            raise InputError(
+                f"HeldObject.bias: v_o needs 3 (planar) or 6 (spatial) components, got {v_o.shape}"
+            )
         omega = v_o[..., 3:]
         gyro = jnp.cross(omega, omega @ self.inertia_matrix.T)
         return jnp.concatenate([jnp.broadcast_to(-self.mass * g, omega.shape), gyro], axis=-1)

@@ -67,7 +67,9 @@ class PlatformBody:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "mass", checks.positive(self.mass, "mass", "PlatformBody"))
-        object.__setattr__(self, "inertia_z", checks.non_negative(self.inertia_z, "inertia_z", "PlatformBody"))
+        object.__setattr__(
+            self, "inertia_z", checks.non_negative(self.inertia_z, "inertia_z", "PlatformBody")
+        )
         object.__setattr__(self, "com", _vector3(self.com, "com", "PlatformBody"))
 
 
@@ -137,11 +139,15 @@ class DynamicModel:
 
     def __post_init__(self) -> None:
         if not isinstance(self.robot, MobileManipulator):
-            raise ModelError(f"DynamicModel: robot must be a MobileManipulator, got {type(self.robot).__name__}")
+            raise ModelError(
+                f"DynamicModel: robot must be a MobileManipulator, got {type(self.robot).__name__}"
+            )
         if not isinstance(self.body, PlatformBody):
             raise ModelError("DynamicModel: body must be a PlatformBody(mass, inertia_z, com)")
         if isinstance(self.robot.platform, DifferentialDrive) and not isinstance(self.wheel, Wheel):
-            raise ModelError("DynamicModel: wheel must be a Wheel(mass, I_w, I_m) for a differential-drive platform")
+            raise ModelError(
+                "DynamicModel: wheel must be a Wheel(mass, I_w, I_m) for a differential-drive platform"
+            )
         if self.payload is not None:
             if not isinstance(self.payload, Payload):
                 raise ModelError("DynamicModel: payload must be a Payload or None")

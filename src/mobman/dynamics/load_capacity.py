@@ -41,8 +41,6 @@ from mobman.dynamics import reduced
 from mobman.dynamics.actuators import Actuator, actuator_list, envelope_coefficients
 from mobman.dynamics.inertia import DynamicModel, Payload
 from mobman.errors import InputError, ModelError
-from mobman.model.arm import LinkInertial
-from mobman.model.robot import MobileManipulator
 
 ZERO_TOLERANCE = 1e-9
 """Relative size below which an entry of τ1 counts as zero, and by which m = 0 may exceed an envelope."""
@@ -93,8 +91,10 @@ class LoadCapacity:
             "limiting_actuator": self.limiting_actuator,
             "limiting_time": self.limiting_time,
             "per_actuator": {
-                name: {"max_load_kg": float(m) if math.isfinite(m) else None,
-                       "time": float(t) if math.isfinite(m) else None}
+                name: {
+                    "max_load_kg": float(m) if math.isfinite(m) else None,
+                    "time": float(t) if math.isfinite(m) else None,
+                }
                 for name, m, t in zip(self.names, self.actuator_load, self.actuator_time)
             },
         }
@@ -159,8 +159,11 @@ def _bounds(tau0, tau1, speed, coefficients):
     upper = coefficients[2] + coefficients[3] * speed
     scale = 1.0 + jnp.max(jnp.abs(tau0)) + jnp.max(jnp.abs(tau1))
     eps = ZERO_TOLERANCE * scale
-    bound = jnp.where(tau1 > eps, (upper - tau0) / jnp.where(tau1 > eps, tau1, 1.0),
-                      jnp.where(tau1 < -eps, (tau0 - lower) / jnp.where(tau1 < -eps, -tau1, 1.0), jnp.inf))
+    bound = jnp.where(
+        tau1 > eps,
+        (upper - tau0) / jnp.where(tau1 > eps, tau1, 1.0),
+        jnp.where(tau1 < -eps, (tau0 - lower) / jnp.where(tau1 < -eps, -tau1, 1.0), jnp.inf),
+    )
     margin = jnp.minimum(upper - tau0, tau0 - lower)
     return lower, upper, jnp.maximum(bound, 0.0), margin, eps
 
@@ -182,8 +185,13 @@ def load_torques(model: DynamicModel, q, eta, eta_dot, payload: Payload | None =
     """(τ0, τ1, ω) along the samples: τ = τ0 + m τ1 for a load of m kg (eq. 1) and the actuator speeds
     ω = Bᵀ η; shapes (N, n_actuators). ``payload`` shapes the load (see :func:`unit_payload_model`)."""
     q, eta, eta_dot = _motion(model, q, eta, eta_dot)
-    tau0, tau1, speed, *_ = _capacity(unit_payload_model(model, payload), q, eta, eta_dot,
-                                      jnp.asarray(envelope_coefficients((None,) * model.n_actuators)))
+    tau0, tau1, speed, *_ = _capacity(
+        unit_payload_model(model, payload),
+        q,
+        eta,
+        eta_dot,
+        jnp.asarray(envelope_coefficients((None,) * model.n_actuators)),
+    )
     return np.asarray(tau0), np.asarray(tau1), np.asarray(speed)
 
 
@@ -275,13 +283,26 @@ def _result(names, t, tau0, tau1, speed, lower, upper, load, index, profile, mar
         max_load=float(load[i]) if bounded else math.inf,
         limiting_actuator=names[i] if bounded else None,
         limiting_time=float(t[index[i]]) if bounded else None,
-        names=tuple(names), t=t, tau0=np.asarray(tau0), tau1=np.asarray(tau1), speed=np.asarray(speed),
-        lower=lower, upper=upper, actuator_load=load,
-        actuator_time=np.where(np.isfinite(load), t[index], np.nan), profile=profile,
+        names=tuple(names),
+        t=t,
+        tau0=np.asarray(tau0),
+        tau1=np.asarray(tau1),
+        speed=np.asarray(speed),
+        lower=lower,
+        upper=upper,
+        actuator_load=load,
+        actuator_time=np.where(np.isfinite(load), t[index], np.nan),
+        profile=profile,
     )
 
 
 __all__ = [
-    "InfeasibleMotionError", "LoadCapacity", "ZERO_TOLERANCE", "capacity_from_torques",
-    "eta_dot_from_samples", "load_torques", "max_load", "unit_payload_model",
+    "InfeasibleMotionError",
+    "LoadCapacity",
+    "ZERO_TOLERANCE",
+    "capacity_from_torques",
+    "eta_dot_from_samples",
+    "load_torques",
+    "max_load",
+    "unit_payload_model",
 ]

@@ -48,8 +48,12 @@ def input_matrix_one(model: DynamicModel, q) -> jnp.ndarray:
     return model.robot.S(q).T @ eq.actuation_matrix_one(model, q)
 
 
-def inverse_dynamics_one(model: DynamicModel, q, eta, eta_dot, payload_mass: float | None = None) -> jnp.ndarray:
-    lhs = reduced_mass_matrix_one(model, q, payload_mass) @ eta_dot + reduced_bias_one(model, q, eta, payload_mass)
+def inverse_dynamics_one(
+    model: DynamicModel, q, eta, eta_dot, payload_mass: float | None = None
+) -> jnp.ndarray:
+    lhs = reduced_mass_matrix_one(model, q, payload_mass) @ eta_dot + reduced_bias_one(
+        model, q, eta, payload_mass
+    )
     return jnp.linalg.solve(input_matrix_one(model, q), lhs)
 
 
@@ -67,7 +71,11 @@ def constraint_forces_one(model: DynamicModel, q, eta, eta_dot, tau):
     robot = model.robot
     s = robot.S(q)
     q_ddot = s @ eta_dot + s_dot_eta(model, q, eta)
-    lhs = eq.mass_matrix_one(model, q) @ q_ddot + eq.bias_one(model, q, s @ eta) - eq.actuation_matrix_one(model, q) @ tau
+    lhs = (
+        eq.mass_matrix_one(model, q) @ q_ddot
+        + eq.bias_one(model, q, s @ eta)
+        - eq.actuation_matrix_one(model, q) @ tau
+    )
     g_t = robot.constraints(q).T
     lam = jnp.linalg.lstsq(g_t, lhs)[0] if g_t.shape[1] else jnp.zeros(0, q.dtype)
     return lam, lhs - g_t @ lam
@@ -83,8 +91,11 @@ def _reduced_mass(model, q):
 
 def reduced_terms_one(model: DynamicModel, q, eta, payload_mass: float | None = None):
     """(P, b, B) for one state: everything the reduced equations need, sharing one evaluation of M and ∂M/∂q."""
-    return (reduced_mass_matrix_one(model, q, payload_mass), reduced_bias_one(model, q, eta, payload_mass),
-            input_matrix_one(model, q))
+    return (
+        reduced_mass_matrix_one(model, q, payload_mass),
+        reduced_bias_one(model, q, eta, payload_mass),
+        input_matrix_one(model, q),
+    )
 
 
 @partial(jax.jit, static_argnums=(0,))
@@ -115,7 +126,8 @@ def _energy(model, q, eta):
 @partial(jax.jit, static_argnums=(0,))
 def _constraint_forces(model, q, eta, eta_dot, tau):
     return jnp.vectorize(partial(constraint_forces_one, model), signature="(n),(k),(k),(k)->(c),(n)")(
-        q, eta, eta_dot, tau)
+        q, eta, eta_dot, tau
+    )
 
 
 def _eta(model: DynamicModel, value, name: str):
@@ -124,8 +136,10 @@ def _eta(model: DynamicModel, value, name: str):
     arr = jnp.asarray(value, dtype=float)
     n = model.robot.n_eta
     if arr.ndim == 0 or arr.shape[-1] != n:
-        raise InputError(f"{name} must have {n} components ({', '.join(model.robot.control_names)}), "
-                         f"got shape {tuple(arr.shape)}")
+        raise InputError(
+            f"{name} must have {n} components ({', '.join(model.robot.control_names)}), "
+            f"got shape {tuple(arr.shape)}"
+        )
     if not bool(jnp.all(jnp.isfinite(arr))):
         raise InputError(f"{name} contains NaN or infinite values")
     return arr
@@ -172,11 +186,22 @@ def constraint_forces(model: DynamicModel, q, eta, eta_dot, tau):
     """(λ, residual): the constraint multipliers of the full equations M q̈ + c + g = E τ + Gᵀ λ for a motion
     of the reduced equations, and the part of M q̈ + c + g − E τ outside the range of Gᵀ (zero when the
     reduced equations hold: the constraint forces drop out of them exactly)."""
-    return _constraint_forces(model, eq._q(model, q), _eta(model, eta, "eta"), _eta(model, eta_dot, "eta_dot"),
-                              _eta(model, tau, "tau"))
+    return _constraint_forces(
+        model,
+        eq._q(model, q),
+        _eta(model, eta, "eta"),
+        _eta(model, eta_dot, "eta_dot"),
+        _eta(model, tau, "tau"),
+    )
 
 
 __all__ = [
-    "constraint_forces", "energy", "forward_dynamics", "input_matrix", "inverse_dynamics", "reduced_bias",
-    "reduced_mass_matrix", "reduced_terms",
+    "constraint_forces",
+    "energy",
+    "forward_dynamics",
+    "input_matrix",
+    "inverse_dynamics",
+    "reduced_bias",
+    "reduced_mass_matrix",
+    "reduced_terms",
 ]

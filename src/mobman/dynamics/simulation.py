@@ -49,7 +49,9 @@ def _simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn, steps: int, dt
         tau = torque_fn(t, q, eta)
         return robot.S(q) @ eta, reduced.forward_dynamics_one(model, q, eta, tau)
 
-    nodes = jnp.array([0.0, 0.5, 0.5, 1.0])  # classical RK4 tableau: stage i evaluates at y + nodes[i] dt k_{i-1}
+    nodes = jnp.array(
+        [0.0, 0.5, 0.5, 1.0]
+    )  # classical RK4 tableau: stage i evaluates at y + nodes[i] dt k_{i-1}
     weights = jnp.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 
     def step(state, k):
@@ -68,12 +70,16 @@ def _simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn, steps: int, dt
 
     _, (qs, etas, taus) = jax.lax.scan(step, (q0, eta0), jnp.arange(steps))
     tau0 = torque_fn(0.0 * dt, q0, eta0)
-    return (jnp.concatenate([q0[None], qs]), jnp.concatenate([eta0[None], etas]),
-            jnp.concatenate([tau0[None], taus]))
+    return (
+        jnp.concatenate([q0[None], qs]),
+        jnp.concatenate([eta0[None], etas]),
+        jnp.concatenate([tau0[None], taus]),
+    )
 
 
-def simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn = zero_torque, duration: float = 1.0,
-             dt: float = 1e-3) -> SimulationResult:
+def simulate(
+    model: DynamicModel, q0, eta0, torque_fn: TorqueFn = zero_torque, duration: float = 1.0, dt: float = 1e-3
+) -> SimulationResult:
     """Integrate the reduced equations from (q0, η0) for ``duration`` seconds with step ``dt`` (RK4)."""
     if not (np.isfinite(duration) and duration > 0):
         raise InputError(f"simulate: duration must be a finite number > 0 s, got {duration!r}")

@@ -59,13 +59,22 @@ def _conditioning(r) -> dict:
     """σ_min of J̄ (the matrix the law inverts) at the start, the end and its minimum along the run, and the
     number of damped steps."""
     sigma = r.info["sigma_min"]
-    return {"sigma_min_initial": float(sigma[0]), "sigma_min_final": float(sigma[-1]),
-            "sigma_min_min": float(np.min(sigma)), "t_sigma_min": float(r.t[np.argmin(sigma)])}
+    return {
+        "sigma_min_initial": float(sigma[0]),
+        "sigma_min_final": float(sigma[-1]),
+        "sigma_min_min": float(np.min(sigma)),
+        "t_sigma_min": float(r.t[np.argmin(sigma)]),
+    }
 
 
 def _law(k: float, criterion) -> laws.BaylePseudoInverse:
-    return laws.BaylePseudoInverse(W=SETTINGS["W"], k=k, criterion=criterion, damping=SETTINGS["damping"],
-                                   damping_threshold=SETTINGS["damping_threshold"])
+    return laws.BaylePseudoInverse(
+        W=SETTINGS["W"],
+        k=k,
+        criterion=criterion,
+        damping=SETTINGS["damping"],
+        damping_threshold=SETTINGS["damping_threshold"],
+    )
 
 
 def _fig5(robot, task, q0, duration, dt):
@@ -86,9 +95,14 @@ def _fig6(robot, task, q0, duration, dt):
     x0, x1 = start[0] + np.asarray(s["transition"])
     alpha = criteria.CubicTransition(x0, x1, coordinate=0)
     power = SETTINGS["line"]["power"]
-    blend = criteria.Blend(criteria.Manipulability(which="system", power=power),
-                           criteria.Manipulability(which="arm", power=power), alpha)
-    result = simulate(robot, task, _law(s["k"], blend), ref, q0, duration, dt, measures=("system_w5", "arm_w5"))
+    blend = criteria.Blend(
+        criteria.Manipulability(which="system", power=power),
+        criteria.Manipulability(which="arm", power=power),
+        alpha,
+    )
+    result = simulate(
+        robot, task, _law(s["k"], blend), ref, q0, duration, dt, measures=("system_w5", "arm_w5")
+    )
     return ref, alpha, (x0, x1), result
 
 
@@ -99,26 +113,42 @@ def _figures(out: Path, robot, task, fig5, fig6) -> list[Path]:
     _, runs = fig5
     name, _, _, main = runs[1]
     idx = np.linspace(0, len(main.t) - 1, 13).round().astype(int)
-    fig = plot_paths(robot, main.q, reference=main.xi_star, instants=4, title=f"Fig. 5: ellipse tracking, {name}")
-    plot_ellipses(main.xi[idx], kinematics.reduced_jacobian(robot, main.q[idx], task), scale=0.12,
-                  ax=fig.axes[0], labels="ellipse of J̄ (×0.12)")
+    fig = plot_paths(
+        robot, main.q, reference=main.xi_star, instants=4, title=f"Fig. 5: ellipse tracking, {name}"
+    )
+    plot_ellipses(
+        main.xi[idx],
+        kinematics.reduced_jacobian(robot, main.q[idx], task),
+        scale=0.12,
+        ax=fig.axes[0],
+        labels="ellipse of J̄ (×0.12)",
+    )
     paths.append(out / "fig5_paths.png")
     fig.savefig(paths[-1], dpi=120)
-    panels = {"w5 (system)": {n: r.measures["system_w5"] for n, _, _, r in runs},
-              "w5 (arm)": {n: r.measures["arm_w5"] for n, _, _, r in runs},
-              "‖e‖ (m)": {n: np.linalg.norm(r.error, axis=-1) for n, _, _, r in runs}}
+    panels = {
+        "w5 (system)": {n: r.measures["system_w5"] for n, _, _, r in runs},
+        "w5 (arm)": {n: r.measures["arm_w5"] for n, _, _, r in runs},
+        "‖e‖ (m)": {n: np.linalg.norm(r.error, axis=-1) for n, _, _, r in runs},
+    }
     fig = plot_timeseries(main.t, panels, title="Fig. 5: sensitivity to the gain k")
     paths.append(out / "fig5_measures.png")
     fig.savefig(paths[-1], dpi=120)
 
     _, alpha, (x0, x1), res = fig6
-    fig = plot_paths(res.robot, res.q, reference=res.xi_star, instants=5,
-                     title=f"Fig. 6: system → arm criterion between x = {x0:.2f} and {x1:.2f} m")
+    fig = plot_paths(
+        res.robot,
+        res.q,
+        reference=res.xi_star,
+        instants=5,
+        title=f"Fig. 6: system → arm criterion between x = {x0:.2f} and {x1:.2f} m",
+    )
     paths.append(out / "fig6_paths.png")
     fig.savefig(paths[-1], dpi=120)
-    panels = {"α(ξ*)": {"α": np.asarray(alpha(res.xi_star))},
-              "w5": {"system": res.measures["system_w5"], "arm": res.measures["arm_w5"]},
-              "v (m/s)": {"v": res.eta[:, 0]}}
+    panels = {
+        "α(ξ*)": {"α": np.asarray(alpha(res.xi_star))},
+        "w5": {"system": res.measures["system_w5"], "arm": res.measures["arm_w5"]},
+        "v (m/s)": {"v": res.eta[:, 0]},
+    }
     fig = plot_timeseries(res.t, panels, title="Fig. 6: convex combination of criteria (eq. 7)")
     paths.append(out / "fig6_measures.png")
     fig.savefig(paths[-1], dpi=120)
@@ -139,11 +169,18 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     rows = []
     for name, criterion, k, r in fig5[1]:
         m = metrics.summarize(r, robot, transient=transient)
-        m.update(run=name, criterion=criterion, k=k,
-                 fraction_system_w5_below_threshold=_fraction_below(r.measures["system_w5"], r.t, threshold, transient),
-                 median_system_w5=float(np.median(r.measures["system_w5"][r.t >= transient])),
-                 max_limit_ratio=float(np.max(r.info["limit_ratio"])),
-                 initial_error=float(np.linalg.norm(r.error[0])), **_conditioning(r))
+        m.update(
+            run=name,
+            criterion=criterion,
+            k=k,
+            fraction_system_w5_below_threshold=_fraction_below(
+                r.measures["system_w5"], r.t, threshold, transient
+            ),
+            median_system_w5=float(np.median(r.measures["system_w5"][r.t >= transient])),
+            max_limit_ratio=float(np.max(r.info["limit_ratio"])),
+            initial_error=float(np.linalg.norm(r.error[0])),
+            **_conditioning(r),
+        )
         rows.append(m)
     _, alpha, (x0, x1), res = fig6
     a = np.asarray(alpha(res.xi_star))
@@ -152,7 +189,8 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     fig6_metrics.update(
         _conditioning(res),
         transition_x=[float(x0), float(x1)],
-        alpha_initial=float(a[0]), alpha_final=float(a[-1]),
+        alpha_initial=float(a[0]),
+        alpha_final=float(a[-1]),
         zone_samples=[int(zone1.sum()), int((~zone1 & ~zone3).sum()), int(zone3.sum())],
         zone1_mean_system_w5=float(np.mean(res.measures["system_w5"][zone1])),
         zone1_mean_arm_w5=float(np.mean(res.measures["arm_w5"][zone1])),
@@ -161,8 +199,11 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         zone3_final_arm_w5=float(res.measures["arm_w5"][-1]),
     )
     figures = _figures(out, robot, task, fig5, fig6)
-    results = {"settings": dict(SETTINGS, duration=duration, dt=dt, gains=list(GAINS)),
-               "fig5": rows, "fig6": fig6_metrics}
+    results = {
+        "settings": dict(SETTINGS, duration=duration, dt=dt, gains=list(GAINS)),
+        "fig5": rows,
+        "fig6": fig6_metrics,
+    }
     return Reproduction("bayle2003", TITLE, results, _report(rows, fig6_metrics, duration, dt), figures)
 
 

@@ -63,9 +63,20 @@ def models() -> tuple[Model, Model]:
     deg = math.pi / 180.0
     beta = FunctionTask(robots.elbow_angle, ("beta",))
     return (
-        Model(1, stack(PlanarAngle(), beta), (0.5, 0.0, 0.0, 120 * deg), (1.5, 0.75, 60 * deg, 180 * deg),
-              "model 1: extra task (α_e, β)"),
-        Model(2, MountPosition(), (0.5, 0.0, 0.0, 0.0), (1.5, 0.75, 0.5, 0.75), "model 2: extra task F = (x_f, y_f)"),
+        Model(
+            1,
+            stack(PlanarAngle(), beta),
+            (0.5, 0.0, 0.0, 120 * deg),
+            (1.5, 0.75, 60 * deg, 180 * deg),
+            "model 1: extra task (α_e, β)",
+        ),
+        Model(
+            2,
+            MountPosition(),
+            (0.5, 0.0, 0.0, 0.0),
+            (1.5, 0.75, 0.5, 0.75),
+            "model 2: extra task F = (x_f, y_f)",
+        ),
     )
 
 
@@ -88,7 +99,9 @@ def model1_configuration(robot: MobileManipulator, x_task, theta0: float = 0.0) 
     return np.array([axle[0], axle[1], theta0, phi - theta0, theta2])
 
 
-def model2_configuration(robot: MobileManipulator, x_task, theta0: float = 0.0, elbow: float = 1.0) -> np.ndarray:
+def model2_configuration(
+    robot: MobileManipulator, x_task, theta0: float = 0.0, elbow: float = 1.0
+) -> np.ndarray:
     """The configuration realising X = (x_e, y_e, x_f, y_f) with heading θ0 (2R inverse kinematics from F).
 
     ``elbow`` = ±1 chooses the sign of θ2. Raises ValueError if |EE − F| is outside [|l1 − l2|, l1 + l2].
@@ -138,15 +151,23 @@ def initial_configuration(robot: MobileManipulator, model: Model) -> np.ndarray:
 
 
 def make_law(model: Model) -> laws.AugmentedJacobian:
-    return laws.AugmentedJacobian(extra=model.extra, feedback=FEEDBACK, damping=DAMPING,
-                                  damping_threshold=DAMPING_THRESHOLD)
+    return laws.AugmentedJacobian(
+        extra=model.extra, feedback=FEEDBACK, damping=DAMPING, damping_threshold=DAMPING_THRESHOLD
+    )
 
 
 def run_model(robot: MobileManipulator, model: Model, dt: float, timing: str = TIMING) -> SimulationResult:
     """Simulate one model with the augmented-Jacobian law along the straight task line."""
     reference = references.Line(model.x_initial, model.x_final, DURATION, timing=timing)
-    return simulate(robot, Position("xy"), make_law(model), reference, initial_configuration(robot, model),
-                    duration=DURATION, dt=dt)
+    return simulate(
+        robot,
+        Position("xy"),
+        make_law(model),
+        reference,
+        initial_configuration(robot, model),
+        duration=DURATION,
+        dt=dt,
+    )
 
 
 def damping_summary(result: SimulationResult) -> dict:
@@ -182,9 +203,14 @@ def summarize_run(robot: MobileManipulator, model: Model, result: SimulationResu
 def motion_figure(robot: MobileManipulator, model: Model, result: SimulationResult) -> Figure:
     """The paper's Fig. 5 / 7: the robot from its initial to its final configuration, EE and F paths."""
     f_path = np.asarray(K.forward(robot, result.q, MountPosition()))
-    return viz.plot_paths(robot, result.q, instants=5, reference=result.xi_star[:, :2],
-                          extra={"base point F": f_path},
-                          title=f"Korayem {model.label}")
+    return viz.plot_paths(
+        robot,
+        result.q,
+        instants=5,
+        reference=result.xi_star[:, :2],
+        extra={"base point F": f_path},
+        title=f"Korayem {model.label}",
+    )
 
 
 def joints_figure(model: Model, result: SimulationResult) -> Figure:
@@ -213,13 +239,29 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         runs[model.number] = result
         entry = summarize_run(robot, model, result)
         entry["initial_check"] = stated_initial_check(robot, model)
-        entry["sensitivity_linear_timing"] = None if quick else {
-            k: v for k, v in summarize_run(robot, model, run_model(robot, model, dt, timing="linear")).items()
-            if k in ("ee_final", "base_point_final", "min_abs_det", "damped", "max_error", "final_error",
-                     "max_joint_rate")
-        }
+        entry["sensitivity_linear_timing"] = (
+            None
+            if quick
+            else {
+                k: v
+                for k, v in summarize_run(robot, model, run_model(robot, model, dt, timing="linear")).items()
+                if k
+                in (
+                    "ee_final",
+                    "base_point_final",
+                    "min_abs_det",
+                    "damped",
+                    "max_error",
+                    "final_error",
+                    "max_joint_rate",
+                )
+            }
+        )
         results.append(entry)
-        for kind, fig in (("motion", motion_figure(robot, model, result)), ("joints", joints_figure(model, result))):
+        for kind, fig in (
+            ("motion", motion_figure(robot, model, result)),
+            ("joints", joints_figure(model, result)),
+        ):
             path = out / f"model{model.number}_{kind}.png"
             fig.savefig(path, dpi=110)
             figures.append(path)
@@ -238,7 +280,11 @@ def _sensitivity(m1: dict, m2: dict) -> str:
         f"- Sensitivity to the time law (linear, constant speed): model 2's largest joint rate becomes "
         f"{s2['max_joint_rate']:.2f} rad/s (quintic: {m2['max_joint_rate']:.2f}): undamped, θ̇2 would grow as "
         "1/√(1 − s) at the stretched end. Damping "
-        + (f"active from t = {s2['damped']['first_time']:.3f} s" if s2["damped"]["needed"] else "never active")
+        + (
+            f"active from t = {s2['damped']['first_time']:.3f} s"
+            if s2["damped"]["needed"]
+            else "never active"
+        )
         + f", max error {s2['max_error']:.2e} m, EE final {_fmt(s2['ee_final'])}, F final "
         f"{_fmt(s2['base_point_final'])}. Model 1 is insensitive (largest joint rate "
         f"{s1['max_joint_rate']:.2f} rad/s, quintic {m1['max_joint_rate']:.2f}, damping "
@@ -281,8 +327,10 @@ def report(robot: MobileManipulator, results: list[dict], dt: float) -> str:
     for r in results:
         d = r["damped"]
         damped = f"yes, t ∈ [{d['first_time']:.3f}, {d['last_time']:.3f}] s" if d["needed"] else "no"
-        lines.append(f"| {r['model']} | {_fmt(r['q_final'])} | {_fmt(r['ee_final'])} | {_fmt(r['base_point_final'])} "
-                     f"| {r['min_abs_det']:.3g} | {damped} | {r['max_error']:.2e} |")
+        lines.append(
+            f"| {r['model']} | {_fmt(r['q_final'])} | {_fmt(r['ee_final'])} | {_fmt(r['base_point_final'])} "
+            f"| {r['min_abs_det']:.3g} | {damped} | {r['max_error']:.2e} |"
+        )
     beta_final = math.degrees(math.pi - m1["q_final"][4])
     lines += [
         "",
@@ -297,8 +345,11 @@ def report(robot: MobileManipulator, results: list[dict], dt: float) -> str:
         f"- Model 2 (eq. 37): |det| = l0 l1 l2 |sin θ2| vanishes at the end, where F = (0.5, 0.75) and "
         "EE = (1.5, 0.75) are l1 + l2 = 1 m apart: the final configuration is singular (θ2 = 0). Minimum |det| "
         f"along the run {m2['min_abs_det']:.3g}; the damping was active "
-        + (f"from t = {m2['damped']['first_time']:.3f} s to {m2['damped']['last_time']:.3f} s"
-           if m2["damped"]["needed"] else "never")
+        + (
+            f"from t = {m2['damped']['first_time']:.3f} s to {m2['damped']['last_time']:.3f} s"
+            if m2["damped"]["needed"]
+            else "never"
+        )
         + f"; final error {m2['final_error']:.2e} m, largest joint rate {m2['max_joint_rate']:.2f} rad/s.",
         _sensitivity(m1, m2),
         "- The paper's maximum loads (20.188 kg, 37.147 kg) belong to the dynamics reproduction `korayem-load`.",
@@ -306,7 +357,7 @@ def report(robot: MobileManipulator, results: list[dict], dt: float) -> str:
         "## Typos found in the paper",
         "",
         "- Eq. (27): J15 = −J25 is wrong; J25 = l2 cos(θ0 + θ1 + θ2) (the autodiff Jacobian agrees with eq. 26).",
-        "- The determinant l0 l1 l2 sin θ2 is announced for \"equation (26)\"; it is the matrix of eq. (37).",
+        '- The determinant l0 l1 l2 sin θ2 is announced for "equation (26)"; it is the matrix of eq. (37).',
         "- Model 1's stated initial base (0, 0, 0) is inconsistent with X_i (see above).",
     ]
     return "\n".join(lines)

@@ -78,8 +78,10 @@ def dynamic_model() -> dyn.DynamicModel:
     p = PARAMETERS
     robot = robots.korayem_planar(l0=p["l0_m"], l1=p["l1_m"], l2=p["l2_m"])
     inertia = p["link_inertia_kg_m2"]
-    links = [LinkInertial(p["link_mass_kg"], (length / 2, 0.0, 0.0), (0.0, inertia, inertia))
-             for length in (p["l1_m"], p["l2_m"])]
+    links = [
+        LinkInertial(p["link_mass_kg"], (length / 2, 0.0, 0.0), (0.0, inertia, inertia))
+        for length in (p["l1_m"], p["l2_m"])
+    ]
     return dyn.DynamicModel(
         robot.with_link_inertials(links),
         dyn.PlatformBody(p["platform_mass_kg"], p["platform_inertia_z_kg_m2"]),
@@ -92,8 +94,9 @@ LINK_MASS_FACTORS = (0.5, 2.0)
 """Sensitivity: link masses (and inertias, uniform rods) scaled by these factors."""
 
 
-def link_mass_sensitivity(capacity: LoadCapacity,
-                          factors: tuple[float, ...] = LINK_MASS_FACTORS) -> dict[float, float]:
+def link_mass_sensitivity(
+    capacity: LoadCapacity, factors: tuple[float, ...] = LINK_MASS_FACTORS
+) -> dict[float, float]:
     """Maximum load (kg) with every link mass and inertia scaled by each factor, from the same τ0, τ1.
 
     Exact without recomputing the dynamics: the joint rows of the reduced equations involve the arm's bodies
@@ -107,7 +110,8 @@ def link_mass_sensitivity(capacity: LoadCapacity,
         tau0 = capacity.tau0.copy()
         tau0[:, joints] *= factor
         result[factor * PARAMETERS["link_mass_kg"]] = capacity_from_torques(
-            capacity.names, capacity.t, tau0, capacity.tau1, capacity.speed, joint_motors()).max_load
+            capacity.names, capacity.t, tau0, capacity.tau1, capacity.speed, joint_motors()
+        ).max_load
     return result
 
 
@@ -146,8 +150,11 @@ def profile_figure(capacities: dict[int, LoadCapacity]) -> Figure:
     """The allowable load at each instant of the trajectory (its minimum is the maximum allowable load)."""
     t = next(iter(capacities.values())).t
     curves = {f"case {k}": np.minimum(c.profile, 500.0) for k, c in capacities.items()}
-    return viz.plot_timeseries(t, {"allowable load (kg, clipped at 500)": curves},
-                               title="Korayem: allowable load along the trajectory")
+    return viz.plot_timeseries(
+        t,
+        {"allowable load (kg, clipped at 500)": curves},
+        title="Korayem: allowable load along the trajectory",
+    )
 
 
 def summarize(number: int, case: kinematics.Model, capacity: LoadCapacity) -> dict:
@@ -162,8 +169,10 @@ def summarize(number: int, case: kinematics.Model, capacity: LoadCapacity) -> di
         "peak_joint_speed_rad_s": float(np.max(np.abs(capacity.speed[:, 2:]))),
         "peak_joint_torque_at_max_load_Nm": float(np.max(np.abs(at_load[:, 2:]))),
         "peak_wheel_torque_at_max_load_Nm": float(np.max(np.abs(at_load[:, wheels]))),
-        "max_load_kg_by_link_mass": {PARAMETERS["link_mass_kg"]: capacity.max_load,
-                                     **link_mass_sensitivity(capacity)},
+        "max_load_kg_by_link_mass": {
+            PARAMETERS["link_mass_kg"]: capacity.max_load,
+            **link_mass_sensitivity(capacity),
+        },
     }
 
 
@@ -221,9 +230,11 @@ def report(results: dict) -> str:
         "|---|---|---|---|---|---|---|",
     ]
     for c in (c1, c2):
-        lines.append(f"| {c['case']} | {', '.join(c['extra_task'])} | {c['max_load_kg']:.3f} | "
-                     f"{c['paper_max_load_kg']} | {c['limiting_actuator']} | {c['limiting_time']:.3f} | "
-                     f"{c['peak_joint_speed_rad_s']:.3f} |")
+        lines.append(
+            f"| {c['case']} | {', '.join(c['extra_task'])} | {c['max_load_kg']:.3f} | "
+            f"{c['paper_max_load_kg']} | {c['limiting_actuator']} | {c['limiting_time']:.3f} | "
+            f"{c['peak_joint_speed_rad_s']:.3f} |"
+        )
     same_order = results["case2_exceeds_case1"] == results["paper_case2_exceeds_case1"]
     by_mass1, by_mass2 = c1["max_load_kg_by_link_mass"], c2["max_load_kg_by_link_mass"]
     lines += [
@@ -232,8 +243,11 @@ def report(results: dict) -> str:
         "",
         f"- Case 2 carries {'more' if results['case2_exceeds_case1'] else 'less'} than case 1 "
         f"({c2['max_load_kg']:.3f} kg vs {c1['max_load_kg']:.3f} kg): "
-        + ("**the paper's ordering is reproduced** (37.147 kg > 20.188 kg)."
-           if same_order else "**the paper's ordering (37.147 kg > 20.188 kg) is not reproduced**."),
+        + (
+            "**the paper's ordering is reproduced** (37.147 kg > 20.188 kg)."
+            if same_order
+            else "**the paper's ordering (37.147 kg > 20.188 kg) is not reproduced**."
+        ),
         f"- The values differ from the paper's (case 1 {100 * c1['relative_difference']:+.0f} %, case 2 "
         f"{100 * c2['relative_difference']:+.0f} %). They cannot be expected to agree: the link masses and inertias, "
         "the payload's shape, the time law along the straight lines (the paper's is not stated; a constant-speed "
@@ -241,11 +255,15 @@ def report(results: dict) -> str:
         "paper, see `korayem-kinematics`) are all unknown or corrected. The capacity scales with them: only the "
         "comparison between the cases is a meaningful check.",
         "- Sensitivity to the unknown link mass (both links, uniform rods; exact rescaling of τ0): "
-        + "; ".join(f"{m:g} kg → case 1 {by_mass1[m]:.3f} kg, case 2 "
-                    f"{by_mass2[m]:.3f} kg" for m in sorted(by_mass1))
+        + "; ".join(
+            f"{m:g} kg → case 1 {by_mass1[m]:.3f} kg, case 2 {by_mass2[m]:.3f} kg" for m in sorted(by_mass1)
+        )
         + ". Case 2 carries more than case 1 for "
-        + ("every link mass tried." if all(by_mass2[m] > by_mass1[m] for m in by_mass1)
-           else "only some of them."),
+        + (
+            "every link mass tried."
+            if all(by_mass2[m] > by_mass1[m] for m in by_mass1)
+            else "only some of them."
+        ),
         "- Peak wheel torques at the maximum load (not limited): case 1 "
         f"{c1['peak_wheel_torque_at_max_load_Nm']:.2f} N·m, "
         f"case 2 {c2['peak_wheel_torque_at_max_load_Nm']:.2f} N·m.",
@@ -253,5 +271,17 @@ def report(results: dict) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["LINK_MASS_FACTORS", "NAME", "PAPER_MAX_LOAD_KG", "PARAMETERS", "TITLE", "case_capacity",
-           "dynamic_model", "joint_motors", "link_mass_sensitivity", "profile_figure", "run", "torque_figure"]
+__all__ = [
+    "LINK_MASS_FACTORS",
+    "NAME",
+    "PAPER_MAX_LOAD_KG",
+    "PARAMETERS",
+    "TITLE",
+    "case_capacity",
+    "dynamic_model",
+    "joint_motors",
+    "link_mass_sensitivity",
+    "profile_figure",
+    "run",
+    "torque_figure",
+]

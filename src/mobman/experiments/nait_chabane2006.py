@@ -33,8 +33,10 @@ from mobman.model import robots
 from mobman.model.robot import MobileManipulator, Mount
 
 NAME = "nait-chabane2006"
-TITLE = ("Nait-Chabane, Hoppenot & Colle (2006) — Mobile arm for disabled people assistance: manipulability "
-         "measure for redundancy solve (§4.2, figures 9–16)")
+TITLE = (
+    "Nait-Chabane, Hoppenot & Colle (2006) — Mobile arm for disabled people assistance: manipulability "
+    "measure for redundancy solve (§4.2, figures 9–16)"
+)
 
 SPEED = 0.05
 """End-effector speed along the lines (m/s), as in the paper."""
@@ -50,7 +52,12 @@ V_THRESHOLD = metrics.V_THRESHOLD
 """|v| (m/s) below which the platform speed counts as zero for the graining points."""
 
 CASES = {1: (1.0, 0.0, 0.0), 2: (0.0, 1.0, 0.0)}
-STRATEGIES = {"none": None, "arm_w5": "arm", "system_w5": "system", "system_w5_normalized": "system_normalized"}
+STRATEGIES = {
+    "none": None,
+    "arm_w5": "arm",
+    "system_w5": "system",
+    "system_w5_normalized": "system_normalized",
+}
 MEASURES = ("arm_w5", "system_w5", "system_normalized_w5")
 FIGURES = {(case, s): 9 + 4 * (case - 1) + i for case in CASES for i, s in enumerate(STRATEGIES)}
 """The paper's figure number of each (case, strategy): 9–12 for case 1, 13–16 for case 2."""
@@ -75,8 +82,9 @@ def reference(robot: MobileManipulator, case: int, duration: float) -> reference
     return references.Line(tuple(start), tuple(end), duration, timing="linear")
 
 
-def simulate_strategy(robot: MobileManipulator, case: int, strategy: str, duration: float,
-                      dt: float) -> SimulationResult:
+def simulate_strategy(
+    robot: MobileManipulator, case: int, strategy: str, duration: float, dt: float
+) -> SimulationResult:
     """One strategy in one case: a single run for ``none``, a batch over GAINS (one compiled call) otherwise."""
     which = STRATEGIES[strategy]
     if which is None:
@@ -84,8 +92,16 @@ def simulate_strategy(robot: MobileManipulator, case: int, strategy: str, durati
     else:
         criterion = criteria.Manipulability("eccentricity", which)
         law = [laws.NaitChabane(W=g, criterion=criterion) for g in GAINS]
-    return simulate(robot, None, law, reference(robot, case, duration), initial_configuration(), duration, dt,
-                    measures=MEASURES)
+    return simulate(
+        robot,
+        None,
+        law,
+        reference(robot, case, duration),
+        initial_configuration(),
+        duration,
+        dt,
+        measures=MEASURES,
+    )
 
 
 def graining_times(t, v, threshold: float = V_THRESHOLD) -> np.ndarray:
@@ -97,8 +113,9 @@ def graining_times(t, v, threshold: float = V_THRESHOLD) -> np.ndarray:
     return times[1:][signs[1:] != signs[:-1]]
 
 
-def summarize(case: int, strategy: str, gain: float | None, result: SimulationResult,
-              robot: MobileManipulator) -> dict:
+def summarize(
+    case: int, strategy: str, gain: float | None, result: SimulationResult, robot: MobileManipulator
+) -> dict:
     """One row of results.json."""
     s = metrics.summarize(result, robot, v_threshold=V_THRESHOLD)
     wa5 = result.measures["arm_w5"]
@@ -126,18 +143,28 @@ def summarize(case: int, strategy: str, gain: float | None, result: SimulationRe
 
 
 _LABELS = {"arm_w5": "w_a5 (arm)", "system_w5": "w5 (system)", "system_normalized_w5": "w̃5 (normalised)"}
-_SHOWN = {"none": ("arm_w5",), "arm_w5": ("arm_w5",), "system_w5": ("arm_w5", "system_w5"),
-          "system_w5_normalized": ("arm_w5", "system_normalized_w5")}
+_SHOWN = {
+    "none": ("arm_w5",),
+    "arm_w5": ("arm_w5",),
+    "system_w5": ("arm_w5", "system_w5"),
+    "system_w5_normalized": ("arm_w5", "system_normalized_w5"),
+}
 
 
-def strategy_figure(robot: MobileManipulator, case: int, strategy: str, gain: float | None,
-                    result: SimulationResult) -> Figure:
+def strategy_figure(
+    robot: MobileManipulator, case: int, strategy: str, gain: float | None, result: SimulationResult
+) -> Figure:
     """The paper's figure for (case, strategy): (a) measures versus time, (b) EE and platform paths."""
     fig = Figure(figsize=(11.5, 4.6))
     ax_a, ax_b = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.0, 1.1]})
     curves = {_LABELS[m]: result.measures[m] for m in _SHOWN[strategy]}
-    viz.draw_curves(ax_a, result.t, curves, hlines=(WA5_GOOD, 1.0),
-                    events={"graining point": graining_times(result.t, result.eta[:, 0])})
+    viz.draw_curves(
+        ax_a,
+        result.t,
+        curves,
+        hlines=(WA5_GOOD, 1.0),
+        events={"graining point": graining_times(result.t, result.eta[:, 0])},
+    )
     ax_a.set_xlabel("t (s)")
     ax_a.set_ylabel("eccentricity")
     ax_a.set_title(f"({FIGURES[case, strategy]}a) measures")
@@ -149,8 +176,9 @@ def strategy_figure(robot: MobileManipulator, case: int, strategy: str, gain: fl
     return fig
 
 
-def ellipses_figure(robot: MobileManipulator, case: int, runs: dict[str, SimulationResult],
-                    instants: int = 6) -> Figure:
+def ellipses_figure(
+    robot: MobileManipulator, case: int, runs: dict[str, SimulationResult], instants: int = 6
+) -> Figure:
     """Arm ellipses (rows x, y of J_a, Nait-Chabane Fig. 5a style) along the EE path for w5 and w̃5."""
     fig = Figure(figsize=(11.5, 4.6))
     axes = fig.subplots(1, 2)
@@ -158,8 +186,15 @@ def ellipses_figure(robot: MobileManipulator, case: int, runs: dict[str, Simulat
         result = runs[strategy]
         idx = np.unique(np.linspace(0, len(result.t) - 1, instants).round().astype(int))
         jac = np.asarray(mp.arm_jacobian(robot, result.q[idx]))[:, :2, :]
-        viz.plot_ellipses(result.xi[idx, :2], jac, scale=0.5, path=result.xi[:, :2], labels="arm ellipse (xy)",
-                          title=f"case {case}, {strategy}: arm ellipses", ax=ax)
+        viz.plot_ellipses(
+            result.xi[idx, :2],
+            jac,
+            scale=0.5,
+            path=result.xi[:, :2],
+            labels="arm ellipse (xy)",
+            title=f"case {case}, {strategy}: arm ellipses",
+            ax=ax,
+        )
     fig.tight_layout()
     return fig
 
@@ -191,8 +226,12 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         ellipses_figure(robot, case, chosen).savefig(path, dpi=100)
         figures.append(path)
         path = out / f"manus_3d_case{case}_normalized.png"
-        viz.plot_paths_3d(robot, chosen["system_w5_normalized"].q, instants=4,
-                          title=f"case {case}, system_w5_normalized, W = {GAIN:g}").savefig(path, dpi=100)
+        viz.plot_paths_3d(
+            robot,
+            chosen["system_w5_normalized"].q,
+            instants=4,
+            title=f"case {case}, system_w5_normalized, W = {GAIN:g}",
+        ).savefig(path, dpi=100)
         figures.append(path)
     return Reproduction(NAME, TITLE, entries, report(entries, dt), figures)
 
@@ -211,72 +250,107 @@ def claims(entries: list[dict], gain: float) -> list[tuple[str, bool, str]]:
 
     out = []
     n1 = e(1, "none")
-    out.append((
-        "Case 1, no optimisation (Fig. 9): w_a5 improves at first, then deteriorates to 1 (arm extended)",
-        n1["wa5_min"] < n1["wa5_initial"] - 0.02 and n1["wa5_final"] >= 0.99,
-        f"w_a5 {n1['wa5_initial']:.3f} → min {n1['wa5_min']:.3f} at {n1['wa5_min_time']:.0f} s → "
-        f"{n1['wa5_final']:.3f} at {DURATION:.0f} s",
-    ))
+    out.append(
+        (
+            "Case 1, no optimisation (Fig. 9): w_a5 improves at first, then deteriorates to 1 (arm extended)",
+            n1["wa5_min"] < n1["wa5_initial"] - 0.02 and n1["wa5_final"] >= 0.99,
+            f"w_a5 {n1['wa5_initial']:.3f} → min {n1['wa5_min']:.3f} at {n1['wa5_min_time']:.0f} s → "
+            f"{n1['wa5_final']:.3f} at {DURATION:.0f} s",
+        )
+    )
     n2 = e(2, "none")
-    out.append((
-        "Case 2, no optimisation (Fig. 13): the arm reaches a singular configuration (paper: after 20 s)",
-        n2["wa5_first_above_0.99"] is not None,
-        f"w_a5 min {n2['wa5_min']:.3f} at {n2['wa5_min_time']:.0f} s, first > 0.99 at "
-        + (f"{n2['wa5_first_above_0.99']:.1f} s" if n2["wa5_first_above_0.99"] is not None else "never")
-        + f", final {n2['wa5_final']:.4f}",
-    ))
+    out.append(
+        (
+            "Case 2, no optimisation (Fig. 13): the arm reaches a singular configuration (paper: after 20 s)",
+            n2["wa5_first_above_0.99"] is not None,
+            f"w_a5 min {n2['wa5_min']:.3f} at {n2['wa5_min_time']:.0f} s, first > 0.99 at "
+            + (f"{n2['wa5_first_above_0.99']:.1f} s" if n2["wa5_first_above_0.99"] is not None else "never")
+            + f", final {n2['wa5_final']:.4f}",
+        )
+    )
     a1, a2 = e(1, "arm_w5"), e(2, "arm_w5")
-    out.append((
-        "Optimising w_a5 (Fig. 10, 14): w_a5 improves, stabilises near its minimum and stays below 0.9",
-        all(a["wa5_max"] < WA5_GOOD and a["wa5_final"] - a["wa5_min"] < 0.01 for a in (a1, a2)),
-        "; ".join(f"case {a['case']}: max {a['wa5_max']:.3f}, min {a['wa5_min']:.3f}, final {a['wa5_final']:.3f}"
-                  for a in (a1, a2)),
-    ))
-    out.append((
-        "Case 1, w_a5 (Fig. 10): the platform first moves back a short distance, then forward",
-        a1["v_initial"] < 0 and a1["graining_points"] == 1,
-        f"v_initial {a1['v_initial']:+.3f} m/s, {a1['graining_points']} graining point(s)",
-    ))
-    out.append((
-        "Case 2, w_a5 (Fig. 14): the platform moves back first; two graining points",
-        a2["v_initial"] < 0 and a2["graining_points"] == 2,
-        f"v_initial {a2['v_initial']:+.3f} m/s, {a2['graining_points']} graining point(s)",
-    ))
+    out.append(
+        (
+            "Optimising w_a5 (Fig. 10, 14): w_a5 improves, stabilises near its minimum and stays below 0.9",
+            all(a["wa5_max"] < WA5_GOOD and a["wa5_final"] - a["wa5_min"] < 0.01 for a in (a1, a2)),
+            "; ".join(
+                f"case {a['case']}: max {a['wa5_max']:.3f}, min {a['wa5_min']:.3f}, final {a['wa5_final']:.3f}"
+                for a in (a1, a2)
+            ),
+        )
+    )
+    out.append(
+        (
+            "Case 1, w_a5 (Fig. 10): the platform first moves back a short distance, then forward",
+            a1["v_initial"] < 0 and a1["graining_points"] == 1,
+            f"v_initial {a1['v_initial']:+.3f} m/s, {a1['graining_points']} graining point(s)",
+        )
+    )
+    out.append(
+        (
+            "Case 2, w_a5 (Fig. 14): the platform moves back first; two graining points",
+            a2["v_initial"] < 0 and a2["graining_points"] == 2,
+            f"v_initial {a2['v_initial']:+.3f} m/s, {a2['graining_points']} graining point(s)",
+        )
+    )
     s1, s2 = e(1, "system_w5"), e(2, "system_w5")
-    out.append((
-        "Optimising w5 (Fig. 11, 15): w5 improves while the arm goes to its extended posture (w_a5 → 1)",
-        all(s["w5_final"] < s["w5_initial"] and s["wa5_final"] > 0.99 for s in (s1, s2)),
-        "; ".join(f"case {s['case']}: w5 {s['w5_initial']:.3f} → {s['w5_final']:.3f}, w_a5 final {s['wa5_final']:.4f}"
-                  for s in (s1, s2)),
-    ))
-    out.append((
-        "Case 1, w5 (Fig. 11): the platform moves back a little at the beginning",
-        s1["v_initial"] < 0,
-        f"v_initial {s1['v_initial']:+.3f} m/s, {s1['graining_points']} graining point(s)",
-    ))
-    out.append((
-        "Case 2, w5 (Fig. 15b): only one graining point",
-        s2["graining_points"] == 1,
-        f"{s2['graining_points']} graining point(s), v_initial {s2['v_initial']:+.3f} m/s",
-    ))
+    out.append(
+        (
+            "Optimising w5 (Fig. 11, 15): w5 improves while the arm goes to its extended posture (w_a5 → 1)",
+            all(s["w5_final"] < s["w5_initial"] and s["wa5_final"] > 0.99 for s in (s1, s2)),
+            "; ".join(
+                f"case {s['case']}: w5 {s['w5_initial']:.3f} → {s['w5_final']:.3f}, w_a5 final {s['wa5_final']:.4f}"
+                for s in (s1, s2)
+            ),
+        )
+    )
+    out.append(
+        (
+            "Case 1, w5 (Fig. 11): the platform moves back a little at the beginning",
+            s1["v_initial"] < 0,
+            f"v_initial {s1['v_initial']:+.3f} m/s, {s1['graining_points']} graining point(s)",
+        )
+    )
+    out.append(
+        (
+            "Case 2, w5 (Fig. 15b): only one graining point",
+            s2["graining_points"] == 1,
+            f"{s2['graining_points']} graining point(s), v_initial {s2['v_initial']:+.3f} m/s",
+        )
+    )
     m1, m2 = e(1, "system_w5_normalized"), e(2, "system_w5_normalized")
-    out.append((
-        "Optimising w̃5 (Fig. 12, 16): the arm stays far from its singular posture (w_a5 < 0.9)",
-        all(m["wa5_max"] < WA5_GOOD for m in (m1, m2)),
-        "; ".join(f"case {m['case']}: w_a5 max {m['wa5_max']:.3f}, final {m['wa5_final']:.3f}" for m in (m1, m2)),
-    ))
-    out.append((
-        "Optimising w̃5 (§4.2.3): smooth platform paths with at most a weak graining at the beginning",
-        all(m["graining_points"] <= 1 and all(t < 0.25 * DURATION for t in m["graining_times"]) for m in (m1, m2)),
-        "; ".join(f"case {m['case']}: {m['graining_points']} at t = "
-                  + (", ".join(f"{t:.1f}" for t in m["graining_times"]) or "—") + " s" for m in (m1, m2)),
-    ))
-    out.append((
-        "Conclusion: w̃5 needs fewer platform manoeuvres than w_a5 (case 2: one instead of two)",
-        m2["graining_points"] < a2["graining_points"],
-        f"case 2 graining points: w_a5 {a2['graining_points']}, w5 {s2['graining_points']}, "
-        f"w̃5 {m2['graining_points']}",
-    ))
+    out.append(
+        (
+            "Optimising w̃5 (Fig. 12, 16): the arm stays far from its singular posture (w_a5 < 0.9)",
+            all(m["wa5_max"] < WA5_GOOD for m in (m1, m2)),
+            "; ".join(
+                f"case {m['case']}: w_a5 max {m['wa5_max']:.3f}, final {m['wa5_final']:.3f}" for m in (m1, m2)
+            ),
+        )
+    )
+    out.append(
+        (
+            "Optimising w̃5 (§4.2.3): smooth platform paths with at most a weak graining at the beginning",
+            all(
+                m["graining_points"] <= 1 and all(t < 0.25 * DURATION for t in m["graining_times"])
+                for m in (m1, m2)
+            ),
+            "; ".join(
+                f"case {m['case']}: {m['graining_points']} at t = "
+                + (", ".join(f"{t:.1f}" for t in m["graining_times"]) or "—")
+                + " s"
+                for m in (m1, m2)
+            ),
+        )
+    )
+    out.append(
+        (
+            "Conclusion: w̃5 needs fewer platform manoeuvres than w_a5 (case 2: one instead of two)",
+            m2["graining_points"] < a2["graining_points"],
+            f"case 2 graining points: w_a5 {a2['graining_points']}, w5 {s2['graining_points']}, "
+            f"w̃5 {m2['graining_points']}",
+        )
+    )
     return out
 
 

@@ -54,6 +54,7 @@ def optimal_posture(robot: MobileManipulator) -> tuple[float, float]:
     One batched evaluation over a 48 × 96 grid of (θ2, θ3) ∈ (0, π) × (−π, π), refined on a grid as fine again
     around the best point (resolution ≈ 0.08°); θ2 > 0 is the arm-1 (right-hand) branch, the mirror branch is (−θ2, −θ3).
     """
+
     def best(t2, t3):
         grid2, grid3 = np.meshgrid(t2, t3, indexing="ij")
         q = np.zeros(grid2.shape + (robot.n_q,))
@@ -70,7 +71,9 @@ def optimal_posture(robot: MobileManipulator) -> tuple[float, float]:
     return best(t2 + np.linspace(-step, step, n), t3 + np.linspace(-2 * step, 2 * step, 2 * n))
 
 
-def paper_configuration(robot: MobileManipulator, angle_deg: float, posture: tuple[float, float]) -> np.ndarray:
+def paper_configuration(
+    robot: MobileManipulator, angle_deg: float, posture: tuple[float, float]
+) -> np.ndarray:
     """Platform at the origin heading +x; both tool points at the same point in direction ``angle_deg`` from
     the platform axis, arm 1 with (θ2, θ3) = posture, arm 2 its mirror image about that direction."""
     t2, t3 = posture
@@ -114,8 +117,13 @@ def _figure(robot, configs, ellipses, scales, unit: str, draw_scale: float, titl
         center = np.asarray(kinematics.forward(robot, q, Position("xy", arm=0)))
         for j, scale in enumerate(scales):
             outline = ellipses[angle].boundary(keep=TRANSLATION)[j] * draw_scale + center
-            ax.plot(outline[:, 0], outline[:, 1], color=colors[j], lw=1.2,
-                    label=f"{what} × {scale:g}" if scale > 0 else "platform fixed")
+            ax.plot(
+                outline[:, 0],
+                outline[:, 1],
+                color=colors[j],
+                lw=1.2,
+                label=f"{what} × {scale:g}" if scale > 0 else "platform fixed",
+            )
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_title(f"object at {angle:g}°")
         ax.set_xlabel("x (m)")
@@ -154,9 +162,14 @@ def _records(e: dict, speed_scales, torque_scales) -> tuple[list, list, dict]:
         for j, s in enumerate(torque_scales):
             records.append(_record("dynamic", angle, float(s), _split(e["dynamic"], (i, j))))
             exact_records.append(_record("dynamic", angle, float(s), _split(e["exact"], (i, j))))
-    fixed = {name: [_record(kind, a, 0.0, _split(e[key], (i, 0))) for i, a in enumerate(ANGLES)]
-             for name, kind, key in (("kinematic", "kinematic", "kinematic"), ("dynamic", "dynamic", "dynamic_fixed"),
-                                     ("dynamic_exact", "dynamic", "exact_fixed"))}
+    fixed = {
+        name: [_record(kind, a, 0.0, _split(e[key], (i, 0))) for i, a in enumerate(ANGLES)]
+        for name, kind, key in (
+            ("kinematic", "kinematic", "kinematic"),
+            ("dynamic", "dynamic", "dynamic_fixed"),
+            ("dynamic_exact", "dynamic", "exact_fixed"),
+        )
+    }
     return records, exact_records, fixed
 
 
@@ -177,18 +190,48 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     point = _ellipses(model, q, speed_scales, torque_scales, "point")
     records, exact_records, fixed = _records(rigid, speed_scales, torque_scales)
     point_records, point_exact, point_fixed = _records(point, speed_scales, torque_scales)
-    claims = _claims(records, exact_records, fixed, "rigid") | _claims(point_records, point_exact, point_fixed, "point")
+    claims = _claims(records, exact_records, fixed, "rigid") | _claims(
+        point_records, point_exact, point_fixed, "point"
+    )
 
     figures = []
     for what, e, scales, unit, draw, title, name in (
-        ("platform speed", rigid["kinematic"], speed_scales, "m/s", 0.2, "Kinematic ellipses (Fig. 3)",
-         "fig3_kinematic.png"),
-        ("wheel torque", rigid["dynamic"], torque_scales, "m/s²", 0.02, "Dynamic ellipses, eq. 38 (Fig. 4)",
-         "fig4_dynamic.png"),
-        ("wheel torque", rigid["exact"], torque_scales, "m/s²", 0.02,
-         "Dynamic ellipses, exact image of the torque ball", "fig4_dynamic_exact.png"),
-        ("wheel torque", point["dynamic"], torque_scales, "m/s²", 0.02, "Dynamic ellipses, eq. 38, point grasp",
-         "fig4_dynamic_point_grasp.png"),
+        (
+            "platform speed",
+            rigid["kinematic"],
+            speed_scales,
+            "m/s",
+            0.2,
+            "Kinematic ellipses (Fig. 3)",
+            "fig3_kinematic.png",
+        ),
+        (
+            "wheel torque",
+            rigid["dynamic"],
+            torque_scales,
+            "m/s²",
+            0.02,
+            "Dynamic ellipses, eq. 38 (Fig. 4)",
+            "fig4_dynamic.png",
+        ),
+        (
+            "wheel torque",
+            rigid["exact"],
+            torque_scales,
+            "m/s²",
+            0.02,
+            "Dynamic ellipses, exact image of the torque ball",
+            "fig4_dynamic_exact.png",
+        ),
+        (
+            "wheel torque",
+            point["dynamic"],
+            torque_scales,
+            "m/s²",
+            0.02,
+            "Dynamic ellipses, eq. 38, point grasp",
+            "fig4_dynamic_point_grasp.png",
+        ),
     ):
         per_angle = {a: _split(e, i) for i, a in enumerate(ANGLES)}
         fig = _figure(robot, configs, per_angle, scales, unit, draw, title, what)
@@ -198,20 +241,35 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     settings = {
         "posture_deg": {"theta2": float(np.degrees(posture[0])), "theta3": float(np.degrees(posture[1]))},
         "configurations": {f"{a:g}": configs[a] for a in ANGLES},
-        "object": {"mass_kg": OBJECT_MASS, "inertia_kgm2": OBJECT_INERTIA, "grasp": "both tool points at the "
-                   "object's centre of mass; rigid (ellipses, dynamic_exact, fixed_dual_arm) or through pivots "
-                   "(point_grasp)"},
+        "object": {
+            "mass_kg": OBJECT_MASS,
+            "inertia_kgm2": OBJECT_INERTIA,
+            "grasp": "both tool points at the "
+            "object's centre of mass; rigid (ellipses, dynamic_exact, fixed_dual_arm) or through pivots "
+            "(point_grasp)",
+        },
         "torque_limits": limits,
         "velocity_normalisation": "wheel speeds 1/r rad/s, joint rates 3.14 rad/s",
         "dynamic_model": "paper: eq. 31–38 (J⁺, W⁺), platform–arm interaction neglected (§4.3); "
-                         "exact: image of the torque ball through the coupled closed-chain dynamics",
+        "exact: image of the torque ball through the coupled closed-chain dynamics",
         "ellipse": "rigid grasp: projection of the (x_o, y_o, angle_o) ellipsoid on (x_o, y_o); point grasp: the "
-                   "(x_o, y_o) ellipse",
+        "(x_o, y_o) ellipse",
     }
-    results = {"settings": settings, "ellipses": records, "dynamic_exact": exact_records, "claims": claims,
-               "fixed_dual_arm": fixed,
-               "point_grasp": {"ellipses": point_records, "dynamic_exact": point_exact, "fixed_dual_arm": point_fixed}}
-    return Reproduction("yamamoto1999", TITLE, results, _report(settings, claims, records, exact_records), figures)
+    results = {
+        "settings": settings,
+        "ellipses": records,
+        "dynamic_exact": exact_records,
+        "claims": claims,
+        "fixed_dual_arm": fixed,
+        "point_grasp": {
+            "ellipses": point_records,
+            "dynamic_exact": point_exact,
+            "fixed_dual_arm": point_fixed,
+        },
+    }
+    return Reproduction(
+        "yamamoto1999", TITLE, results, _report(settings, claims, records, exact_records), figures
+    )
 
 
 UNIFORM = 1.25  # "almost uniformly": the two growth (or shrink) factors within this ratio of each other
@@ -221,15 +279,20 @@ METHODS = {"paper": "paper eq. 31–38", "exact": "exact image"}
 
 
 def _row(records, kind: str, angle: float, scale: float) -> dict:
-    (row,) = [r for r in records if r["kind"] == kind and r["object_angle_deg"] == angle
-              and r["platform_scale"] == scale]
+    (row,) = [
+        r
+        for r in records
+        if r["kind"] == kind and r["object_angle_deg"] == angle and r["platform_scale"] == scale
+    ]
     return row
 
 
 def _series(records, kind: str, angle: float, key: str) -> tuple[np.ndarray, np.ndarray]:
     """(platform scales in increasing order, the record's ``key`` at each)."""
-    rows = sorted((r for r in records if r["kind"] == kind and r["object_angle_deg"] == angle),
-                  key=lambda r: r["platform_scale"])
+    rows = sorted(
+        (r for r in records if r["kind"] == kind and r["object_angle_deg"] == angle),
+        key=lambda r: r["platform_scale"],
+    )
     return np.array([r["platform_scale"] for r in rows]), np.array([r[key] for r in rows])
 
 
@@ -255,34 +318,46 @@ def _claims(records, exact_records, fixed, grasp: str) -> dict:
     claims["kinematic_90_minor_axis_unchanged"] = _claim(
         "Kinematic, object at 90°: the minor axis does not grow with the platform's maximum velocity (no lateral "
         "motion of the platform), while the platform still enlarges the other axis",
-        _rel(minor, minor[0]) < UNCHANGED and major[-1] / major[0] > 1.2 and np.all(ext90[moving, 1] == np.min(
-            ext90[moving], axis=1)),
+        _rel(minor, minor[0]) < UNCHANGED
+        and major[-1] / major[0] > 1.2
+        and np.all(ext90[moving, 1] == np.min(ext90[moving], axis=1)),
         f"minor (lateral y) semi-axis {fmt(minor)} m/s, major {fmt(major)} m/s for platform × {fmt(speeds[moving])}",
-        platform_scale=speeds[moving], minor_axis=minor, major_axis=major)
+        platform_scale=speeds[moving],
+        minor_axis=minor,
+        major_axis=major,
+    )
     _, kin0 = _series(records, "kinematic", 0.0, "axes")
     growth = kin0[moving][-1] / kin0[moving][0]
     claims["kinematic_0_grows_uniformly"] = _claim(
         "Kinematic, object at 0° (in front): the ellipsoid grows almost uniformly with the platform's velocity",
         min(growth) > 1.2 and max(growth) / min(growth) < UNIFORM,
         f"growth of (major, minor) from platform × {speeds[moving][0]:g} to × {speeds[-1]:g}: {fmt(growth)}",
-        growth_major_minor=growth)
+        growth_major_minor=growth,
+    )
     low = {a: _row(records, "kinematic", a, speeds[moving][0])["axes"] for a in ANGLES}
     diff = [_rel(low[a], fixed["kinematic"][k]["axes"]) for k, a in enumerate(ANGLES)]
     claims["kinematic_low_speed_is_fixed_dual_arm"] = _claim(
         "Kinematic: with a very low platform velocity the ellipsoid is almost that of a fixed dual-arm system, at "
-        "0° and at 90°", max(diff) < CLOSE,
+        "0° and at 90°",
+        max(diff) < CLOSE,
         f"relative difference of the semi-axes at platform × {speeds[moving][0]:g} (0°, 90°): {fmt(diff)}",
-        relative_difference=diff)
+        relative_difference=diff,
+    )
     for method, recs, fixed_key in (("paper", records, "dynamic"), ("exact", exact_records, "dynamic_exact")):
         label = METHODS[method]
         torques, _ = _series(recs, "dynamic", 0.0, "axes")
         top, bottom = torques[-1], torques[0]
-        diff = [_rel(_row(recs, "dynamic", a, top)["axes"], fixed[fixed_key][k]["axes"]) for k, a in enumerate(ANGLES)]
+        diff = [
+            _rel(_row(recs, "dynamic", a, top)["axes"], fixed[fixed_key][k]["axes"])
+            for k, a in enumerate(ANGLES)
+        ]
         claims[f"dynamic_{method}_large_torque_is_fixed_dual_arm"] = _claim(
             f"Dynamic ({label}): with large wheel torques (200 N·m) the ellipsoid is that of a fixed dual-arm system, "
-            "the same at 0° and 90°", max(diff) < CLOSE,
+            "the same at 0° and 90°",
+            max(diff) < CLOSE,
             f"relative difference of the semi-axes from the braked platform's (0°, 90°): {fmt(diff)}",
-            relative_difference=diff)
+            relative_difference=diff,
+        )
         _, ext = _series(recs, "dynamic", 90.0, "extents")
         lateral, heading = ext[:, 1], ext[:, 0]
         is_major = lateral >= heading * (1 - 1e-9)
@@ -291,14 +366,23 @@ def _claims(records, exact_records, fixed, grasp: str) -> dict:
             _rel(lateral, lateral[-1]) < UNCHANGED and bool(np.all(is_major)) and heading[0] < heading[-1],
             f"lateral (y) semi-axis {fmt(lateral)}, heading (x) {fmt(heading)} m/s² for wheel torque × {fmt(torques)}; "
             f"the unchanged lateral axis is the major one at × {fmt(torques[is_major])}",
-            platform_scale=torques, lateral_axis=lateral, heading_axis=heading, lateral_is_major=is_major)
+            platform_scale=torques,
+            lateral_axis=lateral,
+            heading_axis=heading,
+            lateral_is_major=is_major,
+        )
         shrink = _row(recs, "dynamic", 0.0, bottom)["extents"] / _row(recs, "dynamic", 0.0, top)["extents"]
         claims[f"dynamic_{method}_0_shrinks_uniformly"] = _claim(
             f"Dynamic ({label}), object at 0°: the ellipsoid shrinks rapidly and almost uniformly as the wheel torque "
-            "decreases", max(shrink) < 0.9 and max(shrink) / min(shrink) < UNIFORM,
-            f"shrink (heading x, lateral y) from × {top:g} to × {bottom:g}: {fmt(shrink)}", shrink_xy=shrink)
+            "decreases",
+            max(shrink) < 0.9 and max(shrink) / min(shrink) < UNIFORM,
+            f"shrink (heading x, lateral y) from × {top:g} to × {bottom:g}: {fmt(shrink)}",
+            shrink_xy=shrink,
+        )
     if grasp == "point":
-        claims = {f"{key}_point_grasp": c | {"claim": c["claim"] + " (point grasp)"} for key, c in claims.items()}
+        claims = {
+            f"{key}_point_grasp": c | {"claim": c["claim"] + " (point grasp)"} for key, c in claims.items()
+        }
     return claims
 
 
@@ -354,14 +438,23 @@ def _report(settings, claims, records, exact_records) -> str:
         "| # | claim | holds | numbers |",
         "|---|---|---|---|",
     ]
-    order = ["kinematic_90_minor_axis_unchanged", "kinematic_0_grows_uniformly", "kinematic_low_speed_is_fixed_dual_arm",
-             "dynamic_paper_large_torque_is_fixed_dual_arm", "dynamic_exact_large_torque_is_fixed_dual_arm",
-             "dynamic_paper_90_major_axis_unchanged", "dynamic_exact_90_major_axis_unchanged",
-             "dynamic_paper_0_shrinks_uniformly", "dynamic_exact_0_shrinks_uniformly"]
+    order = [
+        "kinematic_90_minor_axis_unchanged",
+        "kinematic_0_grows_uniformly",
+        "kinematic_low_speed_is_fixed_dual_arm",
+        "dynamic_paper_large_torque_is_fixed_dual_arm",
+        "dynamic_exact_large_torque_is_fixed_dual_arm",
+        "dynamic_paper_90_major_axis_unchanged",
+        "dynamic_exact_90_major_axis_unchanged",
+        "dynamic_paper_0_shrinks_uniformly",
+        "dynamic_exact_0_shrinks_uniformly",
+    ]
     for suffix, heading in (("", "rigid grasp"), ("_point_grasp", "point grasp")):
         for k, key in enumerate(order, start=1):
             c = claims[key + suffix]
-            lines.append(f"| {k} ({heading}) | {c['claim']} | {'yes' if c['holds'] else '**no**'} | {c['summary']} |")
+            lines.append(
+                f"| {k} ({heading}) | {c['claim']} | {'yes' if c['holds'] else '**no**'} | {c['summary']} |"
+            )
     lines += [
         "",
         f"Thresholds: 'almost uniformly' = the two factors within a ratio {UNIFORM}; 'the same / almost identical' = "

@@ -16,7 +16,23 @@ from mobman.model.task import (
 )
 
 __all__ = [
-    "Arm", "CarLike", "DifferentialDrive", "Elevation", "EulerAngles", "Frames", "FunctionTask", "Joint",
-    "LinkInertial", "MobileManipulator", "Mount", "MountPosition", "Omnidirectional", "PlanarAngle",
-    "Platform", "Position", "Stack", "Task", "stack",
+    "Arm",
+    "CarLike",
+    "DifferentialDrive",
+    "Elevation",
+    "EulerAngles",
+    "Frames",
+    "FunctionTask",
+    "Joint",
+    "LinkInertial",
+    "MobileManipulator",
+    "Mount",
+    "MountPosition",
+    "Omnidirectional",
+    "PlanarAngle",
+    "Platform",
+    "Position",
+    "Stack",
+    "Task",
+    "stack",
 ]

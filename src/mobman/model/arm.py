@@ -79,7 +79,9 @@ class Joint:
 
     def __post_init__(self) -> None:
         if self.kind not in ("revolute", "prismatic"):
-            raise ModelError(f"Joint {self.name!r}: kind must be 'revolute' or 'prismatic', got {self.kind!r}")
+            raise ModelError(
+                f"Joint {self.name!r}: kind must be 'revolute' or 'prismatic', got {self.kind!r}"
+            )
         axis = np.asarray(self.axis, dtype=float)
         norm = np.linalg.norm(axis)
         if axis.shape != (3,) or not np.isfinite(norm) or norm < 1e-12:
@@ -90,7 +92,9 @@ class Joint:
             raise ModelError(f"Joint {self.name!r}: origin must be a finite 4 × 4 transform")
         object.__setattr__(self, "origin", tuple(float(v) for v in origin.ravel()))
         if not self.lower <= self.upper:
-            raise ModelError(f"Joint {self.name!r}: lower limit {self.lower} exceeds upper limit {self.upper}")
+            raise ModelError(
+                f"Joint {self.name!r}: lower limit {self.lower} exceeds upper limit {self.upper}"
+            )
         if self.velocity_max is not None and not (self.velocity_max > 0):
             raise ModelError(f"Joint {self.name!r}: velocity_max must be > 0, got {self.velocity_max!r}")
 

@@ -212,9 +212,7 @@ class CarLike(Platform):
         theta, phi = q_p[2], q_p[3]
         zero = jnp.zeros_like(theta)
         rear = jnp.stack([jnp.sin(theta), -jnp.cos(theta), zero, zero])
-        front = jnp.stack(
-            [-jnp.sin(theta + phi), jnp.cos(theta + phi), self.length * jnp.cos(phi), zero]
-        )
+        front = jnp.stack([-jnp.sin(theta + phi), jnp.cos(theta + phi), self.length * jnp.cos(phi), zero])
         return jnp.stack([rear, front])
 
 

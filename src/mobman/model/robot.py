@@ -168,8 +168,12 @@ class MobileManipulator:
             raise InputError(f"{self.name}: arm must be in 0..{len(self.arms) - 1}, got {arm!r}")
         chain = self.arms[arm]
         if len(inertials) != chain.n_joints:
-            raise InputError(f"inertials: arm {arm} ({chain.name}) has {chain.n_joints} links, got {len(inertials)}")
-        joints = tuple(replace(j, inertial=inertial) for j, inertial in zip(chain.joints, inertials, strict=True))
+            raise InputError(
+                f"inertials: arm {arm} ({chain.name}) has {chain.n_joints} links, got {len(inertials)}"
+            )
+        joints = tuple(
+            replace(j, inertial=inertial) for j, inertial in zip(chain.joints, inertials, strict=True)
+        )
         arms = self.arms[:arm] + (replace(chain, joints=joints),) + self.arms[arm + 1 :]
         return replace(self, arms=arms)
 

@@ -192,8 +192,13 @@ def yamamoto_dual_arm(
         for m, lc, iz in zip(masses, com, inertia_z)
     )
     arms = tuple(
-        planar_arm(lengths, names=("theta1", "theta2", "theta3"), velocity_max=(3.14,) * 3,
-                   inertials=inertials, name=f"arm{k}")
+        planar_arm(
+            lengths,
+            names=("theta1", "theta2", "theta3"),
+            velocity_max=(3.14,) * 3,
+            inertials=inertials,
+            name=f"arm{k}",
+        )
         for k in (1, 2)
     )
     return MobileManipulator(

@@ -21,7 +21,9 @@ Transform = tuple[float, ...]
 IDENTITY: Transform = tuple(float(v) for v in np.eye(4).ravel())
 
 
-def transform(rotation: np.ndarray | None = None, translation: Sequence[float] = (0.0, 0.0, 0.0)) -> Transform:
+def transform(
+    rotation: np.ndarray | None = None, translation: Sequence[float] = (0.0, 0.0, 0.0)
+) -> Transform:
     """Build a hashable fixed transform from a rotation matrix and a translation."""
     matrix = np.eye(4)
     if rotation is not None:

@@ -201,7 +201,9 @@ class EulerAngles(_OrientationTask):
             )
         sel = tuple(int(i) for i in self.select)
         if not sel or any(i not in (0, 1, 2) for i in sel) or len(set(sel)) != len(sel):
-            raise ModelError(f"EulerAngles: select must be distinct indices among 0, 1, 2, got {self.select!r}")
+            raise ModelError(
+                f"EulerAngles: select must be distinct indices among 0, 1, 2, got {self.select!r}"
+            )
         object.__setattr__(self, "select", sel)
 
     @property

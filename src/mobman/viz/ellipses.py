@@ -33,8 +33,16 @@ def ellipse_outline(jacobian, scale: float = 1.0, n: int = 73) -> np.ndarray:
     return scale * np.einsum("...ij,...j,nj->...ni", u[..., :2], sigma, circle)
 
 
-def plot_ellipses(centers, jacobians, scale: float = 1.0, path=None, labels: str = "ellipse",
-                  title: str | None = None, ax: Axes | None = None, color: str = "tab:purple") -> Figure:
+def plot_ellipses(
+    centers,
+    jacobians,
+    scale: float = 1.0,
+    path=None,
+    labels: str = "ellipse",
+    title: str | None = None,
+    ax: Axes | None = None,
+    color: str = "tab:purple",
+) -> Figure:
     """Draw the ellipses of ``jacobians`` (N, 2, k) centred at ``centers`` (N, 2), over an optional path (M, 2)."""
     centers = np.asarray(centers, dtype=float)
     outlines = ellipse_outline(jacobians, scale) + centers[:, None, :]

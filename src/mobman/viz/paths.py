@@ -58,13 +58,23 @@ def _rectangle(center, heading, length, width, rear: float) -> np.ndarray:
     n = np.array([-u[1], u[0]])
     back, front = -rear, length - rear
     return np.array(
-        [center + back * u - width / 2 * n, center + front * u - width / 2 * n,
-         center + front * u + width / 2 * n, center + back * u + width / 2 * n]
+        [
+            center + back * u - width / 2 * n,
+            center + front * u - width / 2 * n,
+            center + front * u + width / 2 * n,
+            center + back * u + width / 2 * n,
+        ]
     )
 
 
-def draw_robot(ax: Axes, robot: MobileManipulator, points: dict[str, np.ndarray], k: int, alpha: float = 1.0,
-               color: str = "0.3") -> None:
+def draw_robot(
+    ax: Axes,
+    robot: MobileManipulator,
+    points: dict[str, np.ndarray],
+    k: int,
+    alpha: float = 1.0,
+    color: str = "0.3",
+) -> None:
     """Draw configuration ``k`` of :func:`frame_points` output on a top-view axes."""
     length, width, radius = _platform_size(robot)
     center = points["platform"][k, :2]
@@ -76,8 +86,9 @@ def draw_robot(ax: Axes, robot: MobileManipulator, points: dict[str, np.ndarray]
     n = np.array([-heading[1], heading[0]])
     half_track = float(getattr(robot.platform, "half_track", width / 2))
     for side in (-1.0, 1.0):
-        wheel = _rectangle(center + side * half_track * n, heading, 2 * radius, 0.25 * radius + 0.02,
-                           rear=radius)
+        wheel = _rectangle(
+            center + side * half_track * n, heading, 2 * radius, 0.25 * radius + 0.02, rear=radius
+        )
         ax.add_patch(Polygon(wheel, closed=True, facecolor=color, edgecolor=color, alpha=alpha))
     tip = center + 0.6 * length * heading
     ax.annotate("", xy=tip, xytext=center, arrowprops=dict(arrowstyle="->", color=color, alpha=alpha))
@@ -92,9 +103,16 @@ def _instants(n: int, instants: int | tuple[int, ...]) -> np.ndarray:
     return np.asarray(instants, dtype=int)
 
 
-def plot_paths(robot: MobileManipulator, q, ee=None, instants: int | tuple[int, ...] = 5,
-               reference=None, extra: Mapping[str, np.ndarray] | None = None, title: str | None = None,
-               ax: Axes | None = None) -> Figure:
+def plot_paths(
+    robot: MobileManipulator,
+    q,
+    ee=None,
+    instants: int | tuple[int, ...] = 5,
+    reference=None,
+    extra: Mapping[str, np.ndarray] | None = None,
+    title: str | None = None,
+    ax: Axes | None = None,
+) -> Figure:
     """Top view: platform reference-point path, end-effector path and the robot at a few instants.
 
     q: configurations over time (N, n_q). ee: end-effector xy over time (N, 2) (default: the last arm
@@ -109,8 +127,13 @@ def plot_paths(robot: MobileManipulator, q, ee=None, instants: int | tuple[int, 
     if reference is not None:
         ref = np.asarray(reference)
         ax.plot(ref[:, 0], ref[:, 1], ":", color="k", lw=1, label="reference")
-    ax.plot(points["platform"][:, 0], points["platform"][:, 1], color="tab:orange", lw=1.5,
-            label="platform (axle midpoint)")
+    ax.plot(
+        points["platform"][:, 0],
+        points["platform"][:, 1],
+        color="tab:orange",
+        lw=1.5,
+        label="platform (axle midpoint)",
+    )
     ax.plot(ee[:, 0], ee[:, 1], color="tab:green", lw=1.5, label="end effector")
     for label, path in (extra or {}).items():
         path = np.asarray(path)
@@ -128,8 +151,9 @@ def plot_paths(robot: MobileManipulator, q, ee=None, instants: int | tuple[int, 
     return fig
 
 
-def plot_paths_3d(robot: MobileManipulator, q, instants: int | tuple[int, ...] = 4,
-                  title: str | None = None) -> Figure:
+def plot_paths_3d(
+    robot: MobileManipulator, q, instants: int | tuple[int, ...] = 4, title: str | None = None
+) -> Figure:
     """3-D view: platform path on the floor, end-effector path, the arm and platform outline at instants."""
     points = frame_points(robot, q)
     fig = Figure(figsize=(6.4, 5.2))

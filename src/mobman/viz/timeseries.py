@@ -11,9 +11,13 @@ from matplotlib.figure import Figure
 from mobman.errors import InputError
 
 
-def plot_timeseries(t, panels: Mapping[str, Mapping[str, np.ndarray]],
-                    hlines: Mapping[str, Sequence[float]] | None = None, title: str | None = None,
-                    events: Mapping[str, Sequence[float]] | None = None) -> Figure:
+def plot_timeseries(
+    t,
+    panels: Mapping[str, Mapping[str, np.ndarray]],
+    hlines: Mapping[str, Sequence[float]] | None = None,
+    title: str | None = None,
+    events: Mapping[str, Sequence[float]] | None = None,
+) -> Figure:
     """Stacked panels sharing the time axis.
 
     t: times (N,). panels: panel y-label → {curve label → values (N,)}. hlines: panel y-label → levels
@@ -23,8 +27,14 @@ def plot_timeseries(t, panels: Mapping[str, Mapping[str, np.ndarray]],
     fig = Figure(figsize=(6.4, 1.2 + 1.9 * len(panels)))
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     for k, (ax, (ylabel, curves)) in enumerate(zip(axes, panels.items())):
-        draw_curves(ax, t, curves, (hlines or {}).get(ylabel, ()), events if k == 0 else None,
-                    (events or {}) if k else None)
+        draw_curves(
+            ax,
+            t,
+            curves,
+            (hlines or {}).get(ylabel, ()),
+            events if k == 0 else None,
+            (events or {}) if k else None,
+        )
         ax.set_ylabel(ylabel)
     axes[-1].set_xlabel("t (s)")
     if title:
@@ -33,9 +43,14 @@ def plot_timeseries(t, panels: Mapping[str, Mapping[str, np.ndarray]],
     return fig
 
 
-def draw_curves(ax: Axes, t, curves: Mapping[str, np.ndarray], hlines: Sequence[float] = (),
-                events: Mapping[str, Sequence[float]] | None = None,
-                unlabelled_events: Mapping[str, Sequence[float]] | None = None) -> None:
+def draw_curves(
+    ax: Axes,
+    t,
+    curves: Mapping[str, np.ndarray],
+    hlines: Sequence[float] = (),
+    events: Mapping[str, Sequence[float]] | None = None,
+    unlabelled_events: Mapping[str, Sequence[float]] | None = None,
+) -> None:
     """Curves (label → values (N,)) against t on one axes, dashed horizontal levels, and event times as
     labelled vertical lines (``unlabelled_events``: the same lines without legend entries)."""
     t = np.asarray(t, dtype=float)
