@@ -13,6 +13,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from mobman.errors import InputError
+from mobman.viz.paths import finish_plane
 
 
 def ellipse_outline(jacobian, scale: float = 1.0, n: int = 73) -> np.ndarray:
@@ -54,11 +55,5 @@ def plot_ellipses(
     for k, outline in enumerate(outlines):
         ax.plot(outline[:, 0], outline[:, 1], color=color, lw=1, label=labels if k == 0 else None)
         ax.plot(*centers[k], ".", color=color)
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
-    if title:
-        ax.set_title(title)
+    finish_plane(ax, title)
     return fig

@@ -21,6 +21,17 @@ from mobman.model.robot import MobileManipulator
 
 
 @lru_cache(maxsize=32)
+def finish_plane(ax: Axes, title: str | None = None) -> None:
+    """Equal-aspect x–y axes in metres with a grid, the legend and an optional title."""
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    if title:
+        ax.set_title(title)
+
+
 def _frames_fn(robot: MobileManipulator):
     def one(q):
         f = robot.frames(q)
@@ -141,13 +152,7 @@ def plot_paths(
     idx = _instants(len(ee), instants)
     for j, k in enumerate(idx):
         draw_robot(ax, robot, points, int(k), alpha=0.35 + 0.65 * (j + 1) / len(idx))
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
-    if title:
-        ax.set_title(title)
+    finish_plane(ax, title)
     return fig
 
 
