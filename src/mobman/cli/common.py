@@ -30,7 +30,13 @@ def parse_params(items: list[str] | None) -> dict[str, float]:
 
 
 def load_robot(name: str, params: list[str] | None = None) -> MobileManipulator:
-    """A built-in robot by name with --param overrides."""
+    """A built-in robot by name with --param overrides, or a robot description file (a path ending in .toml)."""
+    if name.endswith(".toml"):
+        from mobman.io import robot_file
+
+        if params:
+            raise InputError("--param applies to built-in robots; edit the robot file instead")
+        return robot_file.load(name)
     return build(name, **parse_params(params))
 
 

@@ -230,10 +230,10 @@ def _motion(data: dict, robot):
     raise InputError(f"motion.kind: {kind!r} not one of korayem, control")
 
 
-def parse(data: dict) -> LoadSpec:
+def parse(data: dict, base: Path | None = None) -> LoadSpec:
     """Build a :class:`LoadSpec` from a TOML document already read into a dict (the motion is simulated)."""
     fields.keys(data, "spec", TOP_KEYS)
-    robot = fields.robot(data)
+    robot = fields.robot(data, base)
     model = _inertials(data, robot)
     actuators = _actuators(data, model.actuator_names)
     t, q, eta, motion = _motion(data, model.robot)
@@ -242,7 +242,7 @@ def parse(data: dict) -> LoadSpec:
 
 def load(path: Path) -> LoadSpec:
     """Read, parse and simulate a load-capacity specification."""
-    return parse(fields.read_toml(path))
+    return parse(fields.read_toml(path), Path(path).parent)
 
 
 @app.command("load-capacity")

@@ -262,10 +262,10 @@ def _law(data: dict):
     )
 
 
-def parse(data: dict) -> Spec:
+def parse(data: dict, base: Path | None = None) -> Spec:
     """Build a :class:`Spec` from a TOML document already read into a dict."""
     fields.keys(data, "spec", TOP_KEYS)
-    robot = fields.robot(data)
+    robot = fields.robot(data, base)
     task_table = fields.table(data, "task", "task", required=False)
     task = robot.task if task_table is None else _task(task_table, "task")
     try:
@@ -305,7 +305,7 @@ def parse(data: dict) -> Spec:
 
 def load(path: Path) -> Spec:
     """Read and parse a TOML specification file."""
-    return parse(fields.read_toml(path))
+    return parse(fields.read_toml(path), Path(path).parent)
 
 
 __all__ = ["Spec", "load", "parse"]

@@ -1,4 +1,4 @@
-"""Reading and writing: JSON results (robot description files and URDF import come here later)."""
+"""Reading and writing: JSON results, TOML spec helpers (:mod:`.spec`), robot description files (:mod:`.robot_file`)."""
 
 from mobman.io.results import dump_json, to_jsonable
 

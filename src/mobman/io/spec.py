@@ -86,10 +86,18 @@ def build(field: str, factory, /, **kwargs):
         raise InputError(f"{field}: {exc}") from None
 
 
-def robot(data: dict) -> MobileManipulator:
-    """The built-in robot of the ``[robot]`` table: ``name`` and optional ``params`` (NAME = number)."""
+def robot(data: dict, base: Path | None = None) -> MobileManipulator:
+    """The robot of the ``[robot]`` table: a built-in ``name`` with optional ``params`` (NAME = number), or a
+    robot description ``file`` (:mod:`mobman.io.robot_file`, a path relative to ``base``)."""
     entry = table(data, "robot", "robot")
-    keys(entry, "robot", ("name", "params"))
+    keys(entry, "robot", ("name", "params", "file"))
+    if "file" in entry:
+        from mobman.io import robot_file
+
+        if "name" in entry or "params" in entry:
+            raise InputError("robot: give either file or name (with params), not both")
+        path = Path(str(entry["file"]))
+        return robot_file.load(path if base is None or path.is_absolute() else base / path)
     name = entry.get("name")
     if not isinstance(name, str):
         raise InputError(f"robot.name: a built-in robot name ({', '.join(robots.ROBOTS)}), got {name!r}")

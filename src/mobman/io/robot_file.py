@@ -1,0 +1,115 @@
+"""Robot description files: a mobile manipulator in TOML, for robots that are not built in.
+
+A file names a platform, one or more arms given by DH tables, and where each arm is mounted::
+
+    name = "my-robot"
+    task = "xy"                      # optional: components of arm 0's tool position (default "xyz")
+
+    [platform]
+    kind = "differential"            # differential | car | omnidirectional
+    wheel_radius = 0.1               # the platform's keyword arguments (DifferentialDrive, CarLike, Omnidirectional)
+    half_track = 0.25
+    v_max = 0.5
+    omega_max = 1.0
+
+    [[arms]]
+    name = "arm"
+    convention = "dh"                # dh: rows (θ, d, a, α); modified-dh: rows (α_{i−1}, a_{i−1}, θ_i, d_i)
+    table = [[0.0, 0.0, 0.5, 0.0], [0.0, 0.0, 0.5, 0.0]]
+    kinds = "RR"                     # optional: R (revolute) or P (prismatic) per joint, default all revolute
+    velocity_max = [1.57, 1.57]      # optional, rad/s or m/s per joint
+    limits = [[-3.1, 3.1], [-2.6, 2.6]]   # optional position limits per joint
+    tool = [0.0, 0.0, 0.0]           # optional: tool point in the last link frame (m)
+    mount = [0.0, 0.0, 0.0, 0.0]     # optional: arm base x, y, z (m) and yaw (rad) in the platform frame
+
+Wherever the command line takes a built-in robot name, a path ending in ``.toml`` loads such a file; a
+``[robot]`` table of a spec file takes ``file = "robot.toml"`` (relative to the spec) instead of ``name``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from mobman.errors import InputError
+from mobman.io import spec as fields
+from mobman.model.arm import Arm
+from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional
+from mobman.model.robot import MobileManipulator, Mount
+from mobman.model.spatial import transform
+from mobman.model.task import Position
+
+PLATFORMS = {"differential": DifferentialDrive, "car": CarLike, "omnidirectional": Omnidirectional}
+CONVENTIONS = {"dh": Arm.from_dh, "modified-dh": Arm.from_modified_dh}
+ARM_KEYS = ("name", "convention", "table", "kinds", "velocity_max", "limits", "tool", "mount")
+
+
+def _vector(entries: dict, key: str, field: str, size: int) -> list[float] | None:
+    if key not in entries:
+        return None
+    values = fields.array(entries[key], f"{field}.{key}")
+    if values.shape != (size,):
+        raise InputError(f"{field}.{key}: {size} numbers, got shape {values.shape}")
+    return [float(v) for v in values]
+
+
+def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
+    if not isinstance(entries, dict):
+        raise InputError(f"{field}: must be a table")
+    fields.keys(entries, field, ARM_KEYS)
+    convention = entries.get("convention", "dh")
+    if convention not in CONVENTIONS:
+        raise InputError(f"{field}.convention: {convention!r} not one of {', '.join(CONVENTIONS)}")
+    table = fields.array(entries.get("table"), f"{field}.table")
+    if table.ndim != 2 or table.shape[1] != 4 or not len(table):
+        raise InputError(f"{field}.table: one row of 4 numbers per joint, got shape {table.shape}")
+    n = len(table)
+    limits = None
+    if "limits" in entries:
+        limits = fields.array(entries["limits"], f"{field}.limits")
+        if limits.shape != (n, 2):
+            raise InputError(
+                f"{field}.limits: one [lower, upper] pair per joint ({n}), got shape {limits.shape}"
+            )
+    tool = _vector(entries, "tool", field, 3) or [0.0, 0.0, 0.0]
+    mount = _vector(entries, "mount", field, 4) or [0.0, 0.0, 0.0, 0.0]
+    arm = fields.build(
+        field,
+        CONVENTIONS[convention],
+        table=table.tolist(),
+        kinds=entries.get("kinds"),
+        tool=transform(None, tuple(tool)),
+        limits=None if limits is None else [tuple(row) for row in limits.tolist()],
+        velocity_limits=_vector(entries, "velocity_max", field, n),
+        name=str(entries.get("name", field)),
+    )
+    return arm, fields.build(f"{field}.mount", Mount, x=mount[0], y=mount[1], z=mount[2], yaw=mount[3])
+
+
+def parse(data: dict, source: str = "robot file") -> MobileManipulator:
+    """A :class:`MobileManipulator` from a parsed robot description (see the module docstring)."""
+    fields.keys(data, source, ("name", "task", "platform", "arms"))
+    platform_table = dict(fields.table(data, "platform", "platform"))
+    kind = platform_table.pop("kind", None)
+    if kind not in PLATFORMS:
+        raise InputError(f"platform.kind: {kind!r} not one of {', '.join(PLATFORMS)}")
+    platform = fields.build("platform", PLATFORMS[kind], **platform_table)
+    arms = data.get("arms")
+    if not isinstance(arms, list) or not arms:
+        raise InputError("arms: at least one [[arms]] table")
+    parts = [_arm(entries, f"arms[{i}]") for i, entries in enumerate(arms)]
+    components = data.get("task", "xyz")
+    task = fields.build("task", Position, components=components)
+    return fields.build(
+        source,
+        MobileManipulator,
+        platform=platform,
+        arms=tuple(arm for arm, _ in parts),
+        mounts=tuple(mount for _, mount in parts),
+        task=task,
+        name=str(data.get("name", "robot-file")),
+    )
+
+
+def load(path: Path | str) -> MobileManipulator:
+    """Read a robot description file."""
+    return parse(fields.read_toml(Path(path)), str(path))
