@@ -5,9 +5,10 @@ duration = 20.0                  # s
 dt = 0.01                        # s
 q0 = [0.0, 0.0, 0.0, 0.6, 1.2]   # or a string "0, 0, 0, pi/4, pi/3"
 measures = ["arm_w5", "system_w5"]   # optional
-integrator = "auto"              # optional: auto | lie | rk4
+integrator = "auto"              # optional: auto | lie | rk4 | hold
 
-[robot]                          # a built-in robot (``mobman robots``) with keyword parameters
+[robot]                          # a built-in robot (``mobman robots``) with keyword parameters,
+                                 # or file = "robot.toml" (mobman.io.robot_file), relative to the spec
 name = "bayle-planar"
 params = { l1 = 0.5, l2 = 0.5 }
 
