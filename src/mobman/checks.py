@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from mobman.errors import ModelError
 
 
@@ -35,3 +37,30 @@ def non_negative(value, name: str, owner: str) -> float:
     if number < 0:
         raise ModelError(f"{owner}: {name} must be a finite number ≥ 0, got {value!r}")
     return number
+
+
+def vector3(value, name: str, owner: str) -> tuple[float, float, float]:
+    """``value`` as 3 finite floats."""
+    values = tuple(np.ravel(np.asarray(value, dtype=object)))
+    if len(values) != 3:
+        raise ModelError(f"{owner}: {name} must be 3 numbers, got {value!r}")
+    return tuple(finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
+
+
+def inertia_tensor(value, name: str, owner: str) -> tuple[float, ...]:
+    """A symmetric positive semi-definite 3 × 3 tensor (9 numbers row-major, or its diagonal as 3)."""
+    try:
+        tensor = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(f"{owner}: {name} must be 9 numbers (3 × 3, row-major) or 3 (diagonal)") from None
+    if tensor.size == 3:
+        tensor = np.diag(tensor.ravel())
+    if tensor.size != 9 or not np.all(np.isfinite(tensor)):
+        raise ModelError(f"{owner}: {name} must be 9 finite numbers (3 × 3, row-major) or 3 (diagonal)")
+    tensor = tensor.reshape(3, 3)
+    scale = max(1.0, float(np.abs(tensor).max()))
+    if not np.allclose(tensor, tensor.T, atol=1e-12 * scale):
+        raise ModelError(f"{owner}: {name} must be symmetric")
+    if np.linalg.eigvalsh(tensor).min() < -1e-12 * scale:
+        raise ModelError(f"{owner}: {name} must be positive semi-definite (eigenvalues ≥ 0)")
+    return tuple(float(v) for v in tensor.ravel())

@@ -17,13 +17,13 @@ that the planar tasks ``Position("xy") + PlanarAngle()`` measure.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import jax.numpy as jnp
 import numpy as np
 
-from mobman.errors import InputError, ModelError
+from mobman import checks
+from mobman.errors import InputError
 
 
 def _offsets(offsets) -> jnp.ndarray:
@@ -101,20 +101,8 @@ class HeldObject:
     inertia: tuple[float, ...] = (0.0,) * 9
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.mass, (int, float)) and math.isfinite(self.mass) and self.mass > 0):
-            raise ModelError(f"HeldObject: mass must be a finite number > 0 kg, got {self.mass!r}")
-        inertia = np.asarray(self.inertia, dtype=float).ravel()
-        if inertia.shape == (3,):
-            inertia = np.diag(inertia).ravel()
-        if inertia.shape != (9,) or not np.all(np.isfinite(inertia)):
-            raise ModelError("HeldObject: inertia must be 9 (3 × 3 row-major) or 3 (diagonal) finite values")
-        tensor = inertia.reshape(3, 3)
-        if not np.allclose(tensor, tensor.T, atol=1e-12):
-            raise ModelError("HeldObject: inertia must be symmetric")
-        if np.linalg.eigvalsh(tensor).min() < -1e-12:
-            raise ModelError("HeldObject: inertia must be positive semi-definite (eigenvalues ≥ 0 kg m²)")
-        object.__setattr__(self, "mass", float(self.mass))
-        object.__setattr__(self, "inertia", tuple(float(v) for v in inertia))
+        object.__setattr__(self, "mass", checks.positive(self.mass, "mass", "HeldObject"))
+        object.__setattr__(self, "inertia", checks.inertia_tensor(self.inertia, "inertia", "HeldObject"))
 
     @property
     def inertia_matrix(self) -> np.ndarray:

@@ -26,32 +26,6 @@ from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 
 
-def _vector3(value, name: str, owner: str) -> tuple[float, float, float]:
-    values = tuple(np.ravel(np.asarray(value, dtype=object)))
-    if len(values) != 3:
-        raise ModelError(f"{owner}: {name} must be 3 numbers, got {value!r}")
-    return tuple(checks.finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
-
-
-def _inertia_tensor(value, name: str, owner: str) -> tuple[float, ...]:
-    """A symmetric positive semi-definite 3 × 3 tensor (9 numbers row-major, or its diagonal as 3)."""
-    try:
-        tensor = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"{owner}: {name} must be 9 numbers (3 × 3, row-major) or 3 (diagonal)") from None
-    if tensor.size == 3:
-        tensor = np.diag(tensor.ravel())
-    if tensor.size != 9 or not np.all(np.isfinite(tensor)):
-        raise ModelError(f"{owner}: {name} must be 9 finite numbers (3 × 3, row-major) or 3 (diagonal)")
-    tensor = tensor.reshape(3, 3)
-    scale = max(1.0, float(np.abs(tensor).max()))
-    if not np.allclose(tensor, tensor.T, atol=1e-12 * scale):
-        raise ModelError(f"{owner}: {name} must be symmetric")
-    if np.linalg.eigvalsh(tensor).min() < -1e-12 * scale:
-        raise ModelError(f"{owner}: {name} must be positive semi-definite (eigenvalues ≥ 0)")
-    return tuple(float(v) for v in tensor.ravel())
-
-
 @dataclass(frozen=True)
 class PlatformBody:
     """The platform without its driving wheels (and without the rotors of their motors).
@@ -70,7 +44,7 @@ class PlatformBody:
         object.__setattr__(
             self, "inertia_z", checks.non_negative(self.inertia_z, "inertia_z", "PlatformBody")
         )
-        object.__setattr__(self, "com", _vector3(self.com, "com", "PlatformBody"))
+        object.__setattr__(self, "com", checks.vector3(self.com, "com", "PlatformBody"))
 
 
 @dataclass(frozen=True)
@@ -106,8 +80,8 @@ class Payload:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "mass", checks.non_negative(self.mass, "mass", "Payload"))
-        object.__setattr__(self, "inertia", _inertia_tensor(self.inertia, "inertia", "Payload"))
-        object.__setattr__(self, "com", _vector3(self.com, "com", "Payload"))
+        object.__setattr__(self, "inertia", checks.inertia_tensor(self.inertia, "inertia", "Payload"))
+        object.__setattr__(self, "com", checks.vector3(self.com, "com", "Payload"))
         if not isinstance(self.arm, (int, np.integer)) or self.arm < 0:
             raise ModelError(f"Payload: arm must be an arm index ≥ 0, got {self.arm!r}")
         object.__setattr__(self, "arm", int(self.arm))
@@ -162,7 +136,7 @@ class DynamicModel:
                         f"DynamicModel: arm {i} ({arm.name}) joint {j} ({joint.name}) has no inertial "
                         "(LinkInertial(mass, com, inertia))"
                     )
-        object.__setattr__(self, "gravity", _vector3(self.gravity, "gravity", "DynamicModel"))
+        object.__setattr__(self, "gravity", checks.vector3(self.gravity, "gravity", "DynamicModel"))
 
     @property
     def n_actuators(self) -> int:

@@ -16,6 +16,7 @@ from typing import Literal, Sequence
 import jax.numpy as jnp
 import numpy as np
 
+from mobman import checks
 from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.spatial import IDENTITY, Transform
@@ -36,23 +37,9 @@ class LinkInertial:
     inertia: tuple[float, ...] = (0.0,) * 9
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.mass) and self.mass > 0):
-            raise ModelError(f"LinkInertial: mass must be a finite number > 0 kg, got {self.mass!r}")
-        com = tuple(float(v) for v in self.com)
-        if len(com) != 3 or not all(math.isfinite(v) for v in com):
-            raise ModelError(f"LinkInertial: com must be 3 finite numbers, got {self.com!r}")
-        inertia = np.asarray(self.inertia, dtype=float)
-        if inertia.shape == (3,):
-            inertia = np.diag(inertia)
-        if inertia.size != 9 or not np.all(np.isfinite(inertia)):
-            raise ModelError("LinkInertial: inertia must be a 3 × 3 (or diagonal 3-vector) finite tensor")
-        inertia = inertia.reshape(3, 3)
-        if not np.allclose(inertia, inertia.T, atol=1e-12):
-            raise ModelError("LinkInertial: inertia must be symmetric")
-        if np.linalg.eigvalsh(inertia).min() < -1e-12:
-            raise ModelError("LinkInertial: inertia must be positive semi-definite")
-        object.__setattr__(self, "com", com)
-        object.__setattr__(self, "inertia", tuple(float(v) for v in inertia.ravel()))
+        object.__setattr__(self, "mass", checks.positive(self.mass, "mass", "LinkInertial"))
+        object.__setattr__(self, "com", checks.vector3(self.com, "com", "LinkInertial"))
+        object.__setattr__(self, "inertia", checks.inertia_tensor(self.inertia, "inertia", "LinkInertial"))
 
     @property
     def inertia_matrix(self) -> np.ndarray:
