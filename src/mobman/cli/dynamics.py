@@ -268,7 +268,7 @@ def load_capacity_command(
         **result.summary(),
     }
     if out is not None:
-        from mobman.experiments.korayem_load import torque_figure
+        from mobman.viz import plot_torques
 
         out.mkdir(parents=True, exist_ok=True)
         series = {
@@ -282,7 +282,7 @@ def load_capacity_command(
         }
         (out / "results.json").write_text(dump_json({**summary, "series": series}))
         title = f"{spec_path.name}: required torques vs envelopes"
-        torque_figure(result, title).savefig(out / "torques.png", dpi=120)
+        plot_torques(result, title).savefig(out / "torques.png", dpi=120)
     if json_output:
         typer.echo(dump_json(summary))
         return

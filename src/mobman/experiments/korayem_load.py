@@ -127,25 +127,6 @@ def case_capacity(model: dyn.DynamicModel, case: kinematics.Model, dt: float) ->
     return max_load(model, run.t, run.q, run.eta, eta_dot_from_samples(run.t, run.eta), joint_motors())
 
 
-def torque_figure(capacity: LoadCapacity, title: str) -> Figure:
-    """Required torques at m = 0 and at the maximum load against the envelopes of the limited actuators,
-    the limiting time marked."""
-    mass = capacity.max_load if capacity.bounded else 0.0
-    at_load = capacity.torques(mass)
-    panels = {}
-    for i, name in enumerate(capacity.names):
-        if not np.all(np.isfinite(capacity.upper[:, i])) and not np.all(np.isfinite(capacity.lower[:, i])):
-            continue
-        panels[f"{name} (N·m)"] = {
-            f"τ, m = {mass:.3f} kg": at_load[:, i],
-            "τ, m = 0": capacity.tau0[:, i],
-            "T⁺": capacity.upper[:, i],
-            "T⁻": capacity.lower[:, i],
-        }
-    events = {f"limit: {capacity.limiting_actuator}": [capacity.limiting_time]} if capacity.bounded else None
-    return viz.plot_timeseries(capacity.t, panels, title=title, events=events)
-
-
 def profile_figure(capacities: dict[int, LoadCapacity]) -> Figure:
     """The allowable load at each instant of the trajectory (its minimum is the maximum allowable load)."""
     t = next(iter(capacities.values())).t
@@ -189,7 +170,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         cases.append(summarize(case.number, case, capacity))
         path = out / f"case{case.number}_torques.png"
         title = f"Korayem case {case.number}: joint torques vs DC-motor envelopes"
-        torque_figure(capacity, title).savefig(path, dpi=110)
+        viz.plot_torques(capacity, title).savefig(path, dpi=110)
         figures.append(path)
     path = out / "allowable_load.png"
     profile_figure(capacities).savefig(path, dpi=110)
@@ -283,5 +264,4 @@ __all__ = [
     "link_mass_sensitivity",
     "profile_figure",
     "run",
-    "torque_figure",
 ]

@@ -7,6 +7,7 @@ Every figure function takes plain arrays (configurations over time, a robot) and
   instants; a 3-D view for spatial arms.
 - :mod:`mobman.viz.ellipses` manipulability ellipses along a path (SVD of 2 × k Jacobians).
 - :mod:`mobman.viz.timeseries` measures, coordinates and velocities versus time.
+- :mod:`mobman.viz.torques` required actuator torques against their envelopes (load capacity).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ matplotlib.use("Agg")
 from mobman.viz.ellipses import ellipse_outline, plot_ellipses  # noqa: E402
 from mobman.viz.paths import draw_robot, frame_points, plot_paths, plot_paths_3d  # noqa: E402
 from mobman.viz.timeseries import draw_curves, plot_timeseries  # noqa: E402
+from mobman.viz.torques import plot_torques  # noqa: E402
 
 __all__ = [
     "draw_curves",
@@ -28,4 +30,5 @@ __all__ = [
     "plot_paths",
     "plot_paths_3d",
     "plot_timeseries",
+    "plot_torques",
 ]

@@ -1,0 +1,32 @@
+"""Required actuator torques along a motion against their torque–speed envelopes (load capacity)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from mobman.viz.timeseries import plot_timeseries
+
+if TYPE_CHECKING:
+    from mobman.dynamics.load_capacity import LoadCapacity
+
+
+def plot_torques(capacity: LoadCapacity, title: str | None = None) -> Figure:
+    """Required torques at m = 0 and at the maximum load against the envelopes of the limited actuators,
+    the limiting time marked."""
+    mass = capacity.max_load if capacity.bounded else 0.0
+    at_load = capacity.torques(mass)
+    panels = {}
+    for i, name in enumerate(capacity.names):
+        if not np.all(np.isfinite(capacity.upper[:, i])) and not np.all(np.isfinite(capacity.lower[:, i])):
+            continue
+        panels[f"{name} (N·m)"] = {
+            f"τ, m = {mass:.3f} kg": at_load[:, i],
+            "τ, m = 0": capacity.tau0[:, i],
+            "T⁺": capacity.upper[:, i],
+            "T⁻": capacity.lower[:, i],
+        }
+    events = {f"limit: {capacity.limiting_actuator}": [capacity.limiting_time]} if capacity.bounded else None
+    return plot_timeseries(capacity.t, panels, title=title, events=events)
