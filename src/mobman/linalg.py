@@ -53,6 +53,7 @@ def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
 
     The state is the upper triangle of A (and V) as separate batch arrays; one sweep visits every pair
     (p, q) once (row-cyclic order) and is unrolled; sweeps run in a ``fori_loop`` (small compile time).
+    For n ≤ 2 one rotation is exact: a single sweep, without a loop.
     """
     n = a.shape[-1]
     t = _soa(a)
@@ -86,7 +87,8 @@ def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
                     v[r * n + q] = sn * vrp + c * vrq
         return s, v
 
-    s, v = jax.lax.fori_loop(0, sweeps, sweep, (state, eye if vectors else []))
+    init = (state, eye if vectors else [])
+    s, v = sweep(0, init) if n <= 2 else jax.lax.fori_loop(0, sweeps, sweep, init)
     w = jnp.stack([s[at(i, i)] for i in range(n)], axis=-1)
     if not vectors:
         return w, None
@@ -100,15 +102,21 @@ def _eigh_unsorted(a: jnp.ndarray, vectors: bool, sweeps: int):
     return _jacobi(a, vectors, sweeps)
 
 
-def _sort_descending(w: jnp.ndarray) -> jnp.ndarray:
-    """Sort the last axis in descending order with an odd–even transposition network (elementwise
-    max/min: fuses with the solver, unlike a general sort)."""
+def _sort_descending(w: jnp.ndarray, v: jnp.ndarray | None = None):
+    """Sort the last axis of w in descending order, and the columns of v (..., n, n) with it, by an
+    odd–even transposition network (elementwise selects: fuses with the solver, unlike a general sort)."""
     n = w.shape[-1]
     x = [w[..., i] for i in range(n)]
+    cols = None if v is None else [v[..., :, i] for i in range(n)]
     for k in range(n):
         for i in range(k % 2, n - 1, 2):
-            x[i], x[i + 1] = jnp.maximum(x[i], x[i + 1]), jnp.minimum(x[i], x[i + 1])
-    return jnp.stack(x, axis=-1)
+            swap = x[i] < x[i + 1]
+            x[i], x[i + 1] = jnp.where(swap, x[i + 1], x[i]), jnp.where(swap, x[i], x[i + 1])
+            if cols is not None:
+                s = swap[..., None]
+                cols[i], cols[i + 1] = jnp.where(s, cols[i + 1], cols[i]), jnp.where(s, cols[i], cols[i + 1])
+    w = jnp.stack(x, axis=-1)
+    return w if v is None else (w, jnp.stack(cols, axis=-1))
 
 
 @partial(jax.custom_jvp, nondiff_argnums=(1,))
@@ -132,9 +140,7 @@ def _eigvalsh_jvp(sweeps, primals, tangents):
 
 def eigh(a: jnp.ndarray, sweeps: int = SWEEPS) -> tuple[jnp.ndarray, jnp.ndarray]:
     """Eigenvalues (..., n) in descending order and the matching unit eigenvectors (..., n, n) as columns."""
-    w, v = _eigh_unsorted(a, True, sweeps)
-    order = jnp.argsort(-w, axis=-1)
-    return jnp.take_along_axis(w, order, axis=-1), jnp.take_along_axis(v, order[..., None, :], axis=-1)
+    return _sort_descending(*_eigh_unsorted(a, True, sweeps))
 
 
 def gram(a: jnp.ndarray) -> jnp.ndarray:
