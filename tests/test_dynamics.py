@@ -10,6 +10,7 @@ import pytest
 import mobman
 from mobman import dynamics as dyn
 from mobman import kinematics
+from mobman.dynamics import equations
 from mobman.model import robots, spatial
 
 R, B = 0.1, 0.25
@@ -98,6 +99,23 @@ def test_mdot_minus_2c_is_skew_and_c_matches_bias(states):
     c_times_qdot = np.einsum("kij,kj->ki", c_mat, q_dot)
     c_bias = np.asarray(dyn.bias(MODEL, q, q_dot) - dyn.bias(MODEL, q, np.zeros_like(q_dot)))
     assert np.max(np.abs(c_times_qdot - c_bias)) < 1e-10
+
+
+def test_newton_euler_force_equals_lagrange_form(states):
+    """generalized_force (Newton–Euler, virtual work) = M q̈ + c + g (autodiff of M and V), wheels and
+    payload included; the payload's own row is the difference made by adding it (the affine load term)."""
+    q, q_dot = states[0], states[1]
+    q_ddot = np.random.default_rng(3).normal(size=q.shape)
+    lagrange = np.einsum("kij,kj->ki", np.asarray(dyn.mass_matrix(MODEL, q)), q_ddot) + np.asarray(
+        dyn.bias(MODEL, q, q_dot)
+    )
+    newton_euler = np.asarray(dyn.generalized_force(MODEL, q, q_dot, q_ddot))
+    assert np.abs(lagrange).max() > 1.0
+    assert np.max(np.abs(newton_euler - lagrange)) < 1e-10 * np.abs(lagrange).max()
+    forces, wheel = equations.body_forces_one(MODEL, q[0], q_dot[0], q_ddot[0])
+    without = np.asarray(dyn.generalized_force(MODEL.with_payload(None), q[0], q_dot[0], q_ddot[0]))
+    assert np.abs(wheel).max() > 1e-3
+    assert np.allclose(np.asarray(forces[-1]), newton_euler[0] - without, atol=1e-10)
 
 
 def test_gravity_is_gradient_of_potential_by_finite_differences(states):

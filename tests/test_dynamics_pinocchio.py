@@ -115,35 +115,46 @@ def comparison(request):
     q[:, :2] = rng.uniform(-2, 2, (8, 2))
     q_dot = rng.normal(size=(8, n_q))
     q_dot[4:, :3] = 0.0
+    q_ddot = rng.normal(size=(8, n_q))
     data = model.createData()
-    m_pin, b_pin, rnea = [], [], []
+    m_pin, b_pin, rnea, rnea_acc = [], [], [], []
     for k in range(len(q)):
         m = pin.crba(model, data, q[k]).copy()
         m_pin.append(np.triu(m) + np.triu(m, 1).T)
         b_pin.append(pin.nonLinearEffects(model, data, q[k], q_dot[k]).copy())
         rnea.append(pin.rnea(model, data, q[k], q_dot[k], np.zeros(n_q)).copy())
+        rnea_acc.append(pin.rnea(model, data, q[k], q_dot[k], q_ddot[k]).copy())
     return (
         np.asarray(dyn.mass_matrix(ours, q)),
         np.asarray(dyn.bias(ours, q, q_dot)),
         np.array(m_pin),
         np.array(b_pin),
         np.array(rnea),
+        np.asarray(dyn.generalized_force(ours, q, q_dot, q_ddot)),
+        np.array(rnea_acc),
     )
 
 
 def test_mass_matrix_matches_pinocchio_crba(comparison):
-    m_ours, _, m_pin, _, _ = comparison
+    m_ours, _, m_pin, *_ = comparison
     assert np.abs(m_pin).max() > 1.0  # a non-trivial comparison
     assert np.max(np.abs(m_ours - m_pin)) <= 1e-9 * np.abs(m_pin).max()
 
 
 def test_bias_matches_pinocchio_nonlinear_effects(comparison):
-    _, b_ours, _, b_pin, _ = comparison
+    _, b_ours, _, b_pin, *_ = comparison
     assert np.abs(b_pin).max() > 1.0
     assert np.max(np.abs(b_ours - b_pin)) <= 1e-9 * np.abs(b_pin).max()
 
 
 def test_fixed_platform_arm_block_matches_pinocchio_rnea(comparison):
     """Platform at rest: the arm rows of c + g equal Pinocchio's RNEA torques with zero acceleration."""
-    _, b_ours, _, _, rnea = comparison
+    _, b_ours, _, _, rnea, *_ = comparison
     assert np.max(np.abs(b_ours[4:, 3:] - rnea[4:, 3:])) <= 1e-9 * np.abs(rnea[4:]).max()
+
+
+def test_newton_euler_inverse_dynamics_matches_pinocchio_rnea(comparison):
+    """M q̈ + c + g by Newton–Euler (``generalized_force``) against Pinocchio's RNEA with an acceleration."""
+    *_, ours, rnea_acc = comparison
+    assert np.abs(rnea_acc).max() > 1.0
+    assert np.max(np.abs(ours - rnea_acc)) <= 1e-9 * np.abs(rnea_acc).max()

@@ -12,7 +12,8 @@ Contract (see the module docstrings for the equations):
     dyn.inverse_dynamics(model, q, eta, eta_dot) -> tau, dyn.forward_dynamics(model, q, eta, tau) -> eta_dot
     dyn.simulate(model, q0, eta0, torque_fn, duration, dt) -> SimulationResult(t, q, eta, tau)
 
-Extensions of the contract: ``coriolis_matrix``, ``gravity_vector``, ``potential_energy``, ``actuation_matrix``
+Extensions of the contract: ``coriolis_matrix``, ``generalized_force`` (M q̈ + c + g by Newton–Euler),
+``gravity_vector``, ``potential_energy``, ``actuation_matrix``
 (E, full coordinates), ``energy``, ``constraint_forces``, ``wheel_angle_rates`` (Yamamoto's wheel-angle
 coordinates), ``yamamoto_model()``; actuators (``TorqueBox``, ``DCMotor``) and ``max_load`` in
 :mod:`mobman.dynamics.actuators` / :mod:`mobman.dynamics.load_capacity`.
@@ -25,6 +26,7 @@ from mobman.dynamics.equations import (
     actuation_matrix,
     bias,
     coriolis_matrix,
+    generalized_force,
     gravity_vector,
     mass_matrix,
     potential_energy,
@@ -63,6 +65,7 @@ __all__ = [
     "coriolis_matrix",
     "energy",
     "forward_dynamics",
+    "generalized_force",
     "gravity_vector",
     "input_matrix",
     "inverse_dynamics",

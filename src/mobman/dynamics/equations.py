@@ -10,6 +10,8 @@
   Γ_ijk = ½(∂M_ij/∂q_k + ∂M_ik/∂q_j − ∂M_jk/∂q_i), i.e. c = Ṁ q̇ − ½ ∂(q̇ᵀ M q̇)/∂q; g = ∂V/∂q with
   V(q) = −Σ m gravityᵀ p_com. Nothing is derived by hand.
 - :func:`coriolis_matrix` C(q, q̇) with c = C q̇ and Ṁ − 2C skew-symmetric.
+- :func:`generalized_force` M q̈ + c + g by Newton–Euler and virtual work (:func:`body_forces_one`), without
+  forming M: the fast inverse dynamics, equal to the Lagrange form above (tests; Pinocchio's RNEA).
 - :func:`actuation_matrix` E(q): generalized forces of the actuator torques τ = (τ_wheel_r, τ_wheel_l,
   τ_joints…) (wheel torque τ does the work τ δφ; joint torques act on the joint motion variables, so a coupled
   arm gets Cᵀ τ). Platforms other than a differential drive are actuated directly on their quasi-velocities:
@@ -36,7 +38,8 @@ from mobman.model.robot import Frames
 
 class Body(NamedTuple):
     """One rigid body at a configuration: mass, world centre of mass, world rotation of its inertia frame,
-    its inertia about the centre of mass in that frame, and what moves it (arm index or None, last joint)."""
+    its inertia about the centre of mass in that frame, what moves it (arm index or None, last joint) and
+    whether it is the payload."""
 
     mass: float
     point: jnp.ndarray
@@ -44,6 +47,7 @@ class Body(NamedTuple):
     inertia: np.ndarray
     arm: int | None
     upto: int
+    payload: bool = False
 
 
 def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = None) -> list[Body]:
@@ -85,7 +89,13 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
             point = ps[n] + rs[n] @ np.asarray(payload.com)
             result.append(
                 Body(
-                    payload.mass, point, rs[n], np.asarray(payload.inertia).reshape(3, 3), payload.arm, n - 1
+                    payload.mass,
+                    point,
+                    rs[n],
+                    np.asarray(payload.inertia).reshape(3, 3),
+                    payload.arm,
+                    n - 1,
+                    payload=True,
                 )
             )
     return result
@@ -105,30 +115,95 @@ def wheel_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
     return jnp.stack(rows)
 
 
-def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
-    """M(q) for one configuration (n_q × n_q): Σ m J_vᵀ J_v + J_ωᵀ (R I Rᵀ) J_ω over the bodies (+ wheel spin)."""
+class BodyJacobians(NamedTuple):
+    """The bodies of :func:`bodies` at one configuration, ordered by chain (platform bodies first, then arm
+    0, 1, …, the payload last): masses (B,), centre-of-mass Jacobians (B, 3, n_q) and world inertias about
+    the centre of mass (B, 3, 3)."""
+
+    masses: jnp.ndarray
+    linear: jnp.ndarray
+    angular: jnp.ndarray
+    inertia: jnp.ndarray
+
+
+def body_jacobians(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> BodyJacobians:
+    """Linear and angular geometric Jacobians of every body's centre of mass (``robot.point_jacobian``)."""
     robot = model.robot
     frames = robot.frames(q)
     parts = bodies(model, frames, payload_mass)
-    groups = sorted({body.arm for body in parts}, key=lambda a: -1 if a is None else a)
-    parts = [body for arm in groups for body in parts if body.arm == arm]
-    j_v, j_w = [], []
-    for arm in groups:  # one vmapped point_jacobian per chain: a small graph, fast to compile
-        members = [body for body in parts if body.arm == arm]
+    groups = sorted({(body.payload, -1 if body.arm is None else body.arm) for body in parts})
+    j_v, j_w, ordered = [], [], []
+    for key in groups:  # one vmapped point_jacobian per chain: a small graph, fast to compile
+        members = [body for body in parts if (body.payload, -1 if body.arm is None else body.arm) == key]
+        ordered += members
+        arm = members[0].arm
         points = jnp.stack([body.point for body in members])
         upto = jnp.array([body.upto for body in members])
         lin, ang = jax.vmap(lambda p, u, arm=arm: robot.point_jacobian(q, frames, p, arm, u))(points, upto)
         j_v.append(lin)
         j_w.append(ang)
-    j_v, j_w = jnp.concatenate(j_v), jnp.concatenate(j_w)
-    masses = np.array([body.mass for body in parts])
-    rotations = jnp.stack([jnp.broadcast_to(body.rotation, (3, 3)) for body in parts])
-    inertia_world = rotations @ np.stack([body.inertia for body in parts]) @ jnp.swapaxes(rotations, 1, 2)
-    m = jnp.einsum("b,bin,bim->nm", masses, j_v, j_v) + jnp.einsum("bin,bij,bjm->nm", j_w, inertia_world, j_w)
-    if isinstance(robot.platform, DifferentialDrive) and model.wheel is not None:
+    rotations = jnp.stack([jnp.broadcast_to(body.rotation, (3, 3)) for body in ordered])
+    inertia_world = rotations @ np.stack([body.inertia for body in ordered]) @ jnp.swapaxes(rotations, 1, 2)
+    masses = jnp.asarray([body.mass for body in ordered], dtype=q.dtype)
+    return BodyJacobians(masses, jnp.concatenate(j_v), jnp.concatenate(j_w), inertia_world)
+
+
+def _has_wheels(model: DynamicModel) -> bool:
+    return isinstance(model.robot.platform, DifferentialDrive) and model.wheel is not None
+
+
+def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
+    """M(q) for one configuration (n_q × n_q): Σ m J_vᵀ J_v + J_ωᵀ (R I Rᵀ) J_ω over the bodies (+ wheel spin)."""
+    jac = body_jacobians(model, q, payload_mass)
+    m = jnp.einsum("b,bin,bim->nm", jac.masses, jac.linear, jac.linear) + jnp.einsum(
+        "bin,bij,bjm->nm", jac.angular, jac.inertia, jac.angular
+    )
+    if _has_wheels(model):
         a = wheel_rows(model, q)
         m = m + model.wheel.I_w * a.T @ a
     return m
+
+
+def body_forces_one(model: DynamicModel, q, q_dot, q_ddot, payload_mass: float | None = None):
+    """Generalized force of every body for the motion (q, q̇, q̈), by Newton–Euler and virtual work:
+
+        Q_b = m J_vᵀ (a − gravity) + J_ωᵀ (I α + ω × I ω),   a = J_v q̈ + J̇_v q̇,   α = J_ω q̈ + J̇_ω q̇,
+
+    with J̇ q̇ from one forward-mode jvp of the Jacobians. Q_b = d/dt ∂T_b/∂q̇ − ∂T_b/∂q + ∂V_b/∂q for the
+    kinetic and potential energy of body b, so Σ_b Q_b plus the wheel-spin term equals M q̈ + c + g (the
+    Lagrange form of :func:`mass_matrix_one` and :func:`bias_one`, checked in the tests) at the cost of
+    one Jacobian evaluation and its directional derivative — no mass matrix and no reverse pass.
+    Returns (forces (B, n_q) in the body order of :func:`body_jacobians`, the payload last; the wheel-spin
+    force (n_q,), zero without wheels).
+    """
+    jac, jac_dot = jax.jvp(partial(body_jacobians, model, payload_mass=payload_mass), (q,), (q_dot,))
+    omega = jac.angular @ q_dot
+    a = jac.linear @ q_ddot + jac_dot.linear @ q_dot - np.asarray(model.gravity)
+    alpha = jac.angular @ q_ddot + jac_dot.angular @ q_dot
+    moment = jnp.einsum("bij,bj->bi", jac.inertia, alpha) + jnp.cross(
+        omega, jnp.einsum("bij,bj->bi", jac.inertia, omega)
+    )
+    forces = jnp.einsum("b,bin,bi->bn", jac.masses, jac.linear, a) + jnp.einsum(
+        "bin,bi->bn", jac.angular, moment
+    )
+    wheel = jnp.zeros_like(q)
+    if _has_wheels(model):
+        # T_w = ½ I_w |A(q) q̇|²: Lagrange's d/dt ∂T/∂q̇ − ∂T/∂q on the wheel spins (autodiff of two rows)
+        def momentum(x, v):
+            a_rows = wheel_rows(model, x)
+            return model.wheel.I_w * a_rows.T @ (a_rows @ v)
+
+        wheel = jax.jvp(momentum, (q, q_dot), (q_dot, q_ddot))[1] - jax.grad(
+            lambda x: 0.5 * q_dot @ momentum(x, q_dot)
+        )(q)
+    return forces, wheel
+
+
+def generalized_force_one(model: DynamicModel, q, q_dot, q_ddot, payload_mass: float | None = None):
+    """M(q) q̈ + c(q, q̇) + g(q) for one state by Newton–Euler (:func:`body_forces_one`): the inverse dynamics
+    of the unconstrained equations, without forming M."""
+    forces, wheel = body_forces_one(model, q, q_dot, q_ddot, payload_mass)
+    return jnp.sum(forces, axis=0) + wheel
 
 
 def potential_energy_one(
@@ -205,6 +280,11 @@ def _bias(model, q, q_dot):
 
 
 @partial(jax.jit, static_argnums=(0,))
+def _generalized_force(model, q, q_dot, q_ddot):
+    return _vectorized(partial(generalized_force_one, model), "(n),(n),(n)->(n)")(q, q_dot, q_ddot)
+
+
+@partial(jax.jit, static_argnums=(0,))
 def _gravity(model, q):
     return _vectorized(partial(gravity_one, model), "(n)->(n)")(q)
 
@@ -246,6 +326,13 @@ def bias(model: DynamicModel, q, q_dot) -> jnp.ndarray:
     return _bias(model, _q(model, q), _q_dot(model, q_dot))
 
 
+def generalized_force(model: DynamicModel, q, q_dot, q_ddot) -> jnp.ndarray:
+    """M(q) q̈ + c(q, q̇) + g(q), shape (..., n_q), by Newton–Euler (:func:`body_forces_one`): the
+    unconstrained inverse dynamics, equal to ``mass_matrix(q) @ q_ddot + bias(q, q_dot)`` at a fraction of
+    the cost."""
+    return _generalized_force(model, _q(model, q), _q_dot(model, q_dot), _q_dot(model, q_ddot))
+
+
 def gravity_vector(model: DynamicModel, q) -> jnp.ndarray:
     """g(q) = ∂V/∂q, shape (..., n_q)."""
     return _gravity(model, _q(model, q))
@@ -279,8 +366,13 @@ __all__ = [
     "Body",
     "actuation_matrix",
     "bias",
+    "BodyJacobians",
     "bodies",
+    "body_forces_one",
+    "body_jacobians",
     "coriolis_matrix",
+    "generalized_force",
+    "generalized_force_one",
     "gravity_vector",
     "mass_matrix",
     "potential_energy",

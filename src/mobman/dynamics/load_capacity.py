@@ -20,9 +20,10 @@ and time are ``None``. When even m = 0 leaves an envelope, :class:`InfeasibleMot
 the time and the torques. Entries |τ1| ≤ 1e-9 (1 + max|τ0| + max|τ1|) are treated as zero (round-off of (1)).
 
 How τ0 and τ1 are computed (one compiled, vectorised evaluation over the samples, no loop over time):
-τ0 = B⁻¹ Sᵀ (M q̈ + c + g) of the model without payload (:mod:`mobman.dynamics.equations`); τ1 = B⁻¹ Sᵀ Q₁
-with Q₁ the Newton–Euler generalized force of a 1-kg payload. Both are checked against the reduced inverse dynamics of
-:mod:`mobman.dynamics.reduced` in the tests.
+the Newton–Euler generalized force of every body (:func:`mobman.dynamics.equations.body_forces_one`, one
+Jacobian evaluation and its forward-mode derivative per sample); τ0 = B⁻¹ Sᵀ Σ (all bodies but the payload)
+and τ1 = B⁻¹ Sᵀ Q₁, Q₁ the force of a 1-kg payload. Both are checked against the reduced inverse dynamics of
+:mod:`mobman.dynamics.reduced` (Lagrange form) in the tests.
 """
 
 from __future__ import annotations
@@ -112,44 +113,21 @@ def unit_payload_model(model: DynamicModel, payload: Payload | None = None) -> D
     return model.with_payload(template.scaled(1.0))
 
 
-def _unit_payload_force(model: DynamicModel, q, q_dot, q_ddot):
-    """Generalized force Q₁ a 1-kg payload needs for (q, q̇, q̈) (Newton–Euler, by virtual work):
-
-        Q₁ = J_vᵀ (a − gravity) + J_ωᵀ (I α + ω × I ω),   a = J_v q̈ + J̇_v q̇,   α = J_ω q̈ + J̇_ω q̇,
-
-    with J_v, J_ω the payload's geometric Jacobians (``robot.point_jacobian``), J̇ q̇ by forward-mode
-    autodiff and I its world inertia about the centre of mass. ``model`` carries the unit-mass payload.
-    """
-    robot = model.robot
-
-    def twist(q):
-        frames = robot.frames(q)
-        body = eq.bodies(model, frames, 1.0)[-1]  # the payload is the last body
-        lin, ang = robot.point_jacobian(q, frames, body.point, body.arm, body.upto)
-        return (lin @ q_dot, ang @ q_dot), (lin, ang, body.rotation @ body.inertia @ body.rotation.T)
-
-    (_, omega), (a_bias, alpha_bias), (lin, ang, inertia) = jax.jvp(twist, (q,), (q_dot,), has_aux=True)
-    a = lin @ q_ddot + a_bias
-    alpha = ang @ q_ddot + alpha_bias
-    moment = inertia @ alpha + jnp.cross(omega, inertia @ omega)
-    return lin.T @ (a - jnp.asarray(model.gravity)) + ang.T @ moment
-
-
 def _affine_one(model: DynamicModel, q, eta, eta_dot):
     """(τ0, τ1, ω) at one sample; ``model`` carries the unit-mass payload.
 
-    With q̇ = S η, q̈ = S η̇ + Ṡ η and B = Sᵀ E: τ0 = B⁻¹ Sᵀ (M q̈ + c + g) of the model without payload
-    (reduced inverse dynamics, eq. 15–16), τ1 = B⁻¹ Sᵀ Q₁ (the unit payload's share), so that
-    τ0 + m τ1 is exactly the reduced inverse dynamics with a payload of m kg.
+    With q̇ = S η, q̈ = S η̇ + Ṡ η and B = Sᵀ E: the Newton–Euler generalized forces of every body
+    (:func:`mobman.dynamics.equations.body_forces_one`) sum to M q̈ + c + g; τ0 = B⁻¹ Sᵀ (the sum over every
+    body but the payload) is the reduced inverse dynamics without payload (eq. 15–16) and τ1 = B⁻¹ Sᵀ Q₁,
+    Q₁ the unit payload's own force, so that τ0 + m τ1 is exactly the reduced inverse dynamics with m kg.
     """
     s = model.robot.S(q)
     b_mat = reduced.input_matrix_one(model, q)
     q_dot = s @ eta
     q_ddot = s @ eta_dot + reduced.s_dot_eta(model, q, eta)
-    unloaded = model.with_payload(None)
-    applied = eq.mass_matrix_one(unloaded, q) @ q_ddot + eq.bias_one(unloaded, q, q_dot)
-    forces = jnp.stack([applied, _unit_payload_force(model, q, q_dot, q_ddot)], axis=1)
-    tau = jnp.linalg.solve(b_mat, s.T @ forces)
+    forces, wheel = eq.body_forces_one(model, q, q_dot, q_ddot)
+    both = jnp.stack([jnp.sum(forces[:-1], axis=0) + wheel, forces[-1]], axis=1)
+    tau = jnp.linalg.solve(b_mat, s.T @ both)
     return tau[:, 0], tau[:, 1], b_mat.T @ eta
 
 
