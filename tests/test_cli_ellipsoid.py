@@ -82,6 +82,31 @@ def test_dynamic_exact_ellipsoid_is_the_image_of_the_torque_ball(capsys):
     assert report["method"] == "exact" and report["units"].startswith("m/s²")
 
 
+def test_dynamic_ellipsoid_with_velocities_is_shifted_by_the_velocity_terms(capsys):
+    """--eta: a = J̄ η̇ + J̄̇ η with η̇ = P⁻¹(B τ − b): the same axes as at rest, centre J̄̇ η − J̄ P⁻¹ b
+    (J̄̇ η by central differences of J̄ along q̇ = S η)."""
+    model = dyn.yamamoto_model()
+    q = np.array(YAMAMOTO_Q.split(","), dtype=float)
+    eta = np.array([0.4, -0.3, 0.5, -0.2, 0.8, 0.1, 0.6, -0.7])
+    base = ["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic"]
+    rest = _json(base, capsys)
+    moving = _json([*base, "--eta", ",".join(map(str, eta))], capsys)
+    robot = model.robot
+    q_dot = np.asarray(kinematics.S(robot, q)) @ eta
+    h = 1e-6
+    jbar_dot = (
+        np.asarray(kinematics.reduced_jacobian(robot, q + h * q_dot))
+        - np.asarray(kinematics.reduced_jacobian(robot, q - h * q_dot))
+    ) / (2 * h)
+    p = np.asarray(dyn.reduced_mass_matrix(model, q))
+    b = np.asarray(dyn.reduced_bias(model, q, eta))
+    centre = jbar_dot @ eta - np.asarray(kinematics.reduced_jacobian(robot, q)) @ np.linalg.solve(p, b)
+    assert np.abs(centre).max() > 0.1
+    np.testing.assert_allclose(moving["center"], centre, atol=1e-6)
+    np.testing.assert_allclose(moving["axes"], rest["axes"], rtol=1e-9)
+    np.testing.assert_allclose(moving["eta"], eta)
+
+
 def test_dynamic_paper_ellipsoid_lies_inside_the_exact_one(capsys):
     args = ["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--held"]
     exact = _json(args, capsys)
@@ -147,6 +172,8 @@ def test_human_readable_output_lists_axes_and_volume(capsys):
             "--object-mass",
         ),
         (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--method", "best"], "--method"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--kind", "dynamic", "--eta", "1,2"], "--eta"),
+        (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--eta", "0,0,0,0,0,0,0,0"], "--eta"),
         (["no-such-robot", "--q", "0"], "unknown robot"),
         (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--held", "--grasp", "glue"], "--grasp"),
         (["yamamoto-dual-arm", "--q", YAMAMOTO_Q, "--held", "--grasp", "point"], "grasp='point'"),

@@ -2,8 +2,9 @@
 
 ``--kind kinematic`` (default): the task velocities reachable with every actuator rate within its maximum
 (eq. 23–26: wheel speeds for a differential drive with per-wheel limits, else the platform's η limits, and
-the joint rates). ``--kind dynamic``: the task accelerations reachable from rest with every actuator torque
-within its maximum (eq. 27–38); it needs the robot's dynamic model (inertials of the platform, wheels and
+the joint rates). ``--kind dynamic``: the task accelerations reachable with every actuator torque
+within its maximum (eq. 27–38), from rest or, with ``--eta``, at the given quasi-velocities (the velocity
+terms shift the centre, μ_o); it needs the robot's dynamic model (inertials of the platform, wheels and
 links) and its torque limits, built in for ``yamamoto-dual-arm`` (Tables 1–2) — other robots get a one-line
 error. ``--held``: the ellipsoid of an object held rigidly by all arms (coordinates x_o, y_o, angle_o), at the
 centroid of the tool points; with ``--grasp point`` the hands hold it at one point through pivots (x_o, y_o).
@@ -90,6 +91,11 @@ def ellipsoid_command(
     method: str = typer.Option(
         "exact", "--method", help="Dynamic: exact (image of the torque ball) or paper (eq. 31–38)."
     ),
+    eta: str = typer.Option(
+        None,
+        "--eta",
+        help="Dynamic: quasi-velocities v1,v2,… (platform, then joint rates); default at rest.",
+    ),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Principal axes (major first), directions and volume of the kinematic or dynamic task-space ellipsoid."""
@@ -102,6 +108,11 @@ def ellipsoid_command(
     robot = load_robot(robot_name, param)
     configuration = parse_vector(q, "--q", robot.n_q)
     robot.validate_q(configuration)
+    if eta is not None and kind != "dynamic":
+        raise InputError(
+            "--eta applies to --kind dynamic only (the kinematic ellipsoid has no velocity terms)"
+        )
+    velocities = None if eta is None else parse_vector(eta, "--eta", robot.n_eta)
     if kind == "kinematic":
         e = kinematic_ellipsoid(robot, configuration, held=held, grasp=grasp)
     else:
@@ -112,7 +123,9 @@ def ellipsoid_command(
                 _positive(object_mass, "--object-mass"),
                 (0.0, 0.0, _positive(object_inertia, "--object-inertia")),
             )
-        e = dynamic_ellipsoid(model, configuration, limits, obj=obj, method=method, grasp=grasp)
+        e = dynamic_ellipsoid(
+            model, configuration, limits, eta=velocities, obj=obj, method=method, grasp=grasp
+        )
     result = {
         "robot": robot.name,
         "params": dict(robot.parameters),
@@ -121,7 +134,7 @@ def ellipsoid_command(
         "held": held,
         **({"grasp": grasp} if held else {}),
         "units": "m/s, rad/s" if kind == "kinematic" else "m/s², rad/s²",
-        **({"method": method, "torque_limits": limits} if kind == "dynamic" else {}),
+        **({"method": method, "torque_limits": limits, "eta": velocities} if kind == "dynamic" else {}),
         **ellipsoid_report(e),
     }
     if json_output:
