@@ -21,6 +21,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman.batching import blocked
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
@@ -32,9 +33,9 @@ def _task(robot: MobileManipulator, task: Task | None) -> Task:
     return task
 
 
-def _batched(fn: Callable, core_out: str) -> Callable:
-    """Vectorise a one-configuration function over the leading dimensions of q."""
-    return jnp.vectorize(fn, signature=f"(n)->{core_out}")
+def _batched(fn: Callable) -> Callable:
+    """Vectorise a one-configuration function over the leading dimensions of q (cache-blocked on the CPU)."""
+    return blocked(fn)
 
 
 # --- single-configuration kernels ----------------------------------------------------------------
@@ -57,27 +58,27 @@ def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.nd
 
 @partial(jax.jit, static_argnums=(0, 2))
 def _forward(robot, q, task):
-    return _batched(partial(_forward_one, robot, task), "(m)")(q)
+    return _batched(partial(_forward_one, robot, task))(q)
 
 
 @partial(jax.jit, static_argnums=(0, 2))
 def _jacobian(robot, q, task):
-    return _batched(partial(_jacobian_one, robot, task), "(m,n)")(q)
+    return _batched(partial(_jacobian_one, robot, task))(q)
 
 
 @partial(jax.jit, static_argnums=(0, 2))
 def _reduced_jacobian(robot, q, task):
-    return _batched(partial(_reduced_one, robot, task), "(m,k)")(q)
+    return _batched(partial(_reduced_one, robot, task))(q)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _S(robot, q):
-    return _batched(robot.S, "(n,k)")(q)
+    return _batched(robot.S)(q)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _constraints(robot, q):
-    return _batched(robot.constraints, "(c,n)")(q)
+    return _batched(robot.constraints)(q)
 
 
 def _q(robot: MobileManipulator, q):

@@ -34,6 +34,7 @@ import numpy as np
 
 from mobman import kinematics as K
 from mobman import linalg
+from mobman.batching import blocked
 from mobman.errors import InputError, ModelError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
@@ -91,7 +92,10 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
 
 @partial(jax.jit, static_argnums=(1,))
 def _measures(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
-    return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)
+    def one(jj):
+        return _measures_from_squares(_squared_singular_values(jj), jj.shape[-2], rank)
+
+    return blocked(one, core_ndims=2)(j)
 
 
 @jax.jit
@@ -271,7 +275,7 @@ def _gradient(robot, q, task, which, measure, rank):
                 j = j * limits
         return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)[measure]
 
-    return jnp.vectorize(jax.grad(value), signature="(n)->(n)")(q)
+    return blocked(jax.grad(value))(q)
 
 
 def gradient(

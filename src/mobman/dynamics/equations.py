@@ -30,6 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman.batching import blocked
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
 from mobman.model.platform import DifferentialDrive
@@ -265,43 +266,39 @@ def actuation_matrix_one(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
 # --- batched public API --------------------------------------------------------------------------
 
 
-def _vectorized(fn, signature: str):
-    return jnp.vectorize(fn, signature=signature)
-
-
 @partial(jax.jit, static_argnums=(0,))
 def _mass(model, q):
-    return _vectorized(partial(mass_matrix_one, model), "(n)->(n,n)")(q)
+    return blocked(partial(mass_matrix_one, model))(q)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _bias(model, q, q_dot):
-    return _vectorized(partial(bias_one, model), "(n),(n)->(n)")(q, q_dot)
+    return blocked(partial(bias_one, model))(q, q_dot)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _generalized_force(model, q, q_dot, q_ddot):
-    return _vectorized(partial(generalized_force_one, model), "(n),(n),(n)->(n)")(q, q_dot, q_ddot)
+    return blocked(partial(generalized_force_one, model))(q, q_dot, q_ddot)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _gravity(model, q):
-    return _vectorized(partial(gravity_one, model), "(n)->(n)")(q)
+    return blocked(partial(gravity_one, model))(q)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _potential(model, q):
-    return _vectorized(partial(potential_energy_one, model), "(n)->()")(q)
+    return blocked(partial(potential_energy_one, model))(q)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _coriolis(model, q, q_dot):
-    return _vectorized(partial(coriolis_matrix_one, model), "(n),(n)->(n,n)")(q, q_dot)
+    return blocked(partial(coriolis_matrix_one, model))(q, q_dot)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _actuation(model, q):
-    return _vectorized(partial(actuation_matrix_one, model), "(n)->(n,a)")(q)
+    return blocked(partial(actuation_matrix_one, model))(q)
 
 
 def _q(model: DynamicModel, q):

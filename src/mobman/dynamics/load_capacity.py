@@ -37,6 +37,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman.batching import blocked
 from mobman.dynamics import equations as eq
 from mobman.dynamics import reduced
 from mobman.dynamics.actuators import Actuator, actuator_list, envelope_coefficients
@@ -155,7 +156,7 @@ def _evaluate(tau0, tau1, speed, coefficients):
 
 @partial(jax.jit, static_argnums=(0,))
 def _capacity(model: DynamicModel, q, eta, eta_dot, coefficients):
-    tau0, tau1, speed = jax.vmap(partial(_affine_one, model))(q, eta, eta_dot)
+    tau0, tau1, speed = blocked(partial(_affine_one, model))(q, eta, eta_dot)
     return (tau0, tau1, speed) + _evaluate(tau0, tau1, speed, coefficients)
 
 

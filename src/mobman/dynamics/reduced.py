@@ -24,6 +24,7 @@ from functools import partial
 import jax
 import jax.numpy as jnp
 
+from mobman.batching import blocked
 from mobman.dynamics import equations as eq
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
@@ -90,7 +91,7 @@ def constraint_forces_one(model: DynamicModel, q, eta, eta_dot, tau):
 
 @partial(jax.jit, static_argnums=(0,))
 def _reduced_mass(model, q):
-    return jnp.vectorize(partial(reduced_mass_matrix_one, model), signature="(n)->(k,k)")(q)
+    return blocked(partial(reduced_mass_matrix_one, model))(q)
 
 
 def reduced_terms_one(model: DynamicModel, q, eta, payload_mass: float | None = None):
@@ -104,12 +105,12 @@ def reduced_terms_one(model: DynamicModel, q, eta, payload_mass: float | None = 
 
 @partial(jax.jit, static_argnums=(0,))
 def _terms(model, q, eta):
-    return jnp.vectorize(partial(reduced_terms_one, model), signature="(n),(k)->(k,k),(k),(k,a)")(q, eta)
+    return blocked(partial(reduced_terms_one, model))(q, eta)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _input(model, q):
-    return jnp.vectorize(partial(input_matrix_one, model), signature="(n)->(k,a)")(q)
+    return blocked(partial(input_matrix_one, model))(q)
 
 
 @jax.jit
@@ -124,14 +125,12 @@ def _solve_forward(p, b, b_mat, tau):
 
 @partial(jax.jit, static_argnums=(0,))
 def _energy(model, q, eta):
-    return jnp.vectorize(partial(energy_one, model), signature="(n),(k)->()")(q, eta)
+    return blocked(partial(energy_one, model))(q, eta)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _constraint_forces(model, q, eta, eta_dot, tau):
-    return jnp.vectorize(partial(constraint_forces_one, model), signature="(n),(k),(k),(k)->(c),(n)")(
-        q, eta, eta_dot, tau
-    )
+    return blocked(partial(constraint_forces_one, model))(q, eta, eta_dot, tau)
 
 
 def _eta(model: DynamicModel, value, name: str):
