@@ -237,5 +237,9 @@ def test_invalid_inertial_data_names_the_field(build, field):
 
 
 def test_wrong_sizes_are_input_errors():
+    with pytest.raises(mobman.InputError, match="q_ddot"):
+        dyn.generalized_force(MODEL, np.zeros(6), np.zeros(6), np.zeros(5))
+    with pytest.raises(mobman.InputError, match="q_dot"):
+        dyn.generalized_force(MODEL, np.zeros(6), np.full(6, np.nan), np.zeros(6))
     with pytest.raises(mobman.InputError, match="eta"):
         dyn.reduced_bias(MODEL, np.zeros(6), np.zeros(4))

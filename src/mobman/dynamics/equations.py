@@ -132,10 +132,15 @@ def body_jacobians(model: DynamicModel, q: jnp.ndarray, payload_mass: float | No
     robot = model.robot
     frames = robot.frames(q)
     parts = bodies(model, frames, payload_mass)
-    groups = sorted({(body.payload, -1 if body.arm is None else body.arm) for body in parts})
+
+    def chain(body: Body) -> tuple[bool, int]:  # platform (-1), arms 0, 1, …, then the payload
+        return body.payload, -1 if body.arm is None else body.arm
+
     j_v, j_w, ordered = [], [], []
-    for key in groups:  # one vmapped point_jacobian per chain: a small graph, fast to compile
-        members = [body for body in parts if (body.payload, -1 if body.arm is None else body.arm) == key]
+    for key in sorted(
+        {chain(body) for body in parts}
+    ):  # one vmapped point_jacobian per chain: fast to compile
+        members = [body for body in parts if chain(body) == key]
         ordered += members
         arm = members[0].arm
         points = jnp.stack([body.point for body in members])
@@ -307,10 +312,14 @@ def _q(model: DynamicModel, q):
     return jnp.asarray(model.robot.validate_q(q))
 
 
-def _q_dot(model: DynamicModel, q_dot):
+def _q_dot(model: DynamicModel, q_dot, name: str = "q_dot"):
+    """A validated rate (q̇ or q̈) in the full coordinates; errors name the argument."""
     if isinstance(q_dot, jax.core.Tracer):
         return q_dot
-    return jnp.asarray(model.robot.validate_q(q_dot))
+    try:
+        return jnp.asarray(model.robot.validate_q(q_dot))
+    except InputError as exc:
+        raise InputError(f"{name}: {exc}") from None
 
 
 def mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
@@ -327,7 +336,7 @@ def generalized_force(model: DynamicModel, q, q_dot, q_ddot) -> jnp.ndarray:
     """M(q) q̈ + c(q, q̇) + g(q), shape (..., n_q), by Newton–Euler (:func:`body_forces_one`): the
     unconstrained inverse dynamics, equal to ``mass_matrix(q) @ q_ddot + bias(q, q_dot)`` at a fraction of
     the cost."""
-    return _generalized_force(model, _q(model, q), _q_dot(model, q_dot), _q_dot(model, q_ddot))
+    return _generalized_force(model, _q(model, q), _q_dot(model, q_dot), _q_dot(model, q_ddot, "q_ddot"))
 
 
 def gravity_vector(model: DynamicModel, q) -> jnp.ndarray:
