@@ -48,8 +48,9 @@ def qs(robot):
     return q
 
 
-def _jhat(robot, q, scale=1.0):
-    """Ĵ = J̄ T Y⁻¹ of eq. 24, written out here: wheel matrix and speed limits from the platform's parameters."""
+def _jhat(robot, q, scale=1.0, task=None):
+    """Ĵ = J̄ T Y⁻¹ of eq. 24, written out here: wheel matrix and speed limits from the platform's parameters;
+    J̄ of ``task`` (default: the held-object grasp task)."""
     platform = robot.platform
     t = np.eye(robot.n_eta)
     t[:2, :2] = [
@@ -60,7 +61,7 @@ def _jhat(robot, q, scale=1.0):
         ],
     ]
     u_max = np.array([platform.wheel_speed_max * scale] * 2 + [3.14] * 6)
-    return np.asarray(kinematics.reduced_jacobian(robot, q, grasp_task(robot))) @ t * u_max
+    return np.asarray(kinematics.reduced_jacobian(robot, q, task or grasp_task(robot))) @ t * u_max
 
 
 # --- kinematic ---------------------------------------------------------------------------------------
@@ -353,21 +354,8 @@ def q_point(robot):
 def test_point_grasp_kinematic_ellipsoid(robot, q_point):
     """{v_o : v_oᵀ W (Ĵ Ĵᵀ)⁻¹ Wᵀ v_o ≤ 1} with W = [I₂ I₂] and Ĵ the two tool points' rows."""
     e = kinematic_ellipsoid(robot, q_point, held=True, grasp="point")
-    platform = robot.platform
-    t = np.eye(robot.n_eta)
-    t[:2, :2] = [
-        [platform.wheel_radius / 2] * 2,
-        [
-            platform.wheel_radius / (2 * platform.half_track),
-            -platform.wheel_radius / (2 * platform.half_track),
-        ],
-    ]
-    task = stack(Position("xy", arm=0), Position("xy", arm=1))
-    jhat = (
-        np.asarray(kinematics.reduced_jacobian(robot, q_point, task))
-        @ t
-        * np.array([1 / 0.075] * 2 + [3.14] * 6)
-    )
+    assert robot.platform.wheel_speed_max == 1 / 0.075  # Table 2's wheel speed limit
+    jhat = _jhat(robot, q_point, task=stack(Position("xy", arm=0), Position("xy", arm=1)))
     w = np.hstack([np.eye(2), np.eye(2)])
     form = w @ np.linalg.inv(jhat @ np.swapaxes(jhat, -1, -2)) @ w.T
     np.testing.assert_allclose(np.linalg.inv(e.shape_matrix), form, rtol=1e-8)
