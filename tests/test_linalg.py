@@ -35,19 +35,52 @@ def test_eigenvectors_are_orthonormal_and_diagonalise(n):
 
 
 def test_graded_spectrum_small_eigenvalues_absolute_accuracy():
-    """Gram matrices of ill-conditioned Jacobians: absolute error about eps · ‖A‖ (the documented bound)."""
+    """Gram matrices of ill-conditioned Jacobians: absolute error about eps · ‖A‖ (the documented bound),
+    for a batch (Jacobi) and for one matrix (LAPACK on the CPU)."""
     u, _ = np.linalg.qr(RNG.normal(size=(4, 4)))
     lam = np.array([1.0, 1e-3, 1e-6, 1e-10])
     a = (u * lam) @ u.T
-    got = np.asarray(linalg.eigvalsh(jnp.asarray(a)))
-    np.testing.assert_allclose(got, lam, atol=10 * np.finfo(float).eps)
+    for got in (linalg.eigvalsh(jnp.asarray(a[None]))[0], linalg.eigvalsh(jnp.asarray(a))):
+        np.testing.assert_allclose(np.asarray(got), lam, atol=10 * np.finfo(float).eps)
 
 
-def test_derivative_matches_jax_eigvalsh_and_finite_differences():
+def _calls_lapack(fn, x) -> bool:
+    return 'custom_call_target="lapack' in jax.jit(fn).lower(x).compile().as_text()
+
+
+@pytest.mark.parametrize("fn", [linalg.eigvalsh, lambda a: linalg.eigh(a)[1]])
+def test_one_matrix_goes_to_lapack_and_a_batch_to_jacobi(fn):
+    """One n × n matrix (n ≥ 3) is one LAPACK call on the CPU; under vmap, or with batch dimensions, the same
+    function runs the elementwise Jacobi program (no per-matrix library call), with the same values."""
+    a = _symmetric(6, batch=4)
+    assert _calls_lapack(fn, jnp.asarray(a[0]))
+    assert not _calls_lapack(jax.vmap(fn), jnp.asarray(a))
+    assert not _calls_lapack(fn, jnp.asarray(a))
+    one = np.stack([np.abs(np.asarray(fn(jnp.asarray(x)))) for x in a])  # |.|: eigenvector signs may differ
+    np.testing.assert_allclose(np.abs(np.asarray(jax.vmap(fn)(jnp.asarray(a)))), one, atol=1e-12)
+
+
+def test_batched_derivative_equals_the_derivative_of_each_matrix():
+    """jit(vmap(grad)) goes through the Jacobi solver, grad of one matrix through LAPACK: same gradients."""
+    a = jnp.asarray(_symmetric(5, batch=6))
+    weights = jnp.array([1.0, -2.0, 0.5, 3.0, 0.25])
+
+    def f(x):
+        return jnp.dot(weights, linalg.eigvalsh(x))
+
+    batched = np.asarray(jax.jit(jax.vmap(jax.grad(f)))(a))
+    one = np.stack([np.asarray(jax.grad(f)(x)) for x in a])
+    np.testing.assert_allclose(batched, one, atol=1e-10)
+
+
+@pytest.mark.parametrize("batched", [False, True])
+def test_derivative_matches_jax_eigvalsh_and_finite_differences(batched):
     a = jnp.asarray(_symmetric(4, batch=1)[0])
     weights = jnp.array([1.0, -2.0, 0.5, 3.0])
 
     def ours(x):
+        if batched:  # the Jacobi path
+            return jnp.dot(weights, linalg.eigvalsh(x[None])[0])
         return jnp.dot(weights, linalg.eigvalsh(x))
 
     def reference(x):

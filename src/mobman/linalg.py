@@ -7,6 +7,13 @@ structure-of-arrays layout: every matrix entry is one array over the batch (batc
 fixed number of fully unrolled sweeps makes the whole solver one straight-line program that XLA fuses into
 tight vectorised loops on the CPU and the GPU.
 
+One matrix is different: unrolled, the Jacobi program is about a hundred tiny XLA kernels per sweep, while
+LAPACK solves a 6 × 6 problem in one call. So on the CPU a single n × n matrix (3 ≤ n ≤ 8) goes to LAPACK,
+and the solver switches to Jacobi when it is vectorised (``jax.custom_batching.custom_vmap``: ``vmap``,
+``blocked`` batches and explicit batch dimensions all get the Jacobi program). 2 × 2 problems keep their
+single exact rotation; accelerators always use Jacobi. Measured on the 6 × 6 Gram matrix of a Panda J̄:
+about 25 µs per call through LAPACK against 70 µs through Jacobi (``benchmarks/kinematics.py``).
+
 Convergence of cyclic Jacobi is quadratic once the off-diagonal part is small; :data:`SWEEPS` sweeps reach
 machine precision for the matrices met in kinematics (n ≤ 8; tested against LAPACK in ``tests/test_linalg.py``).
 Eigenvalues are accurate to about ``eps · ‖A‖`` in absolute terms (the usual bound of a backward-stable method).
@@ -20,7 +27,7 @@ still get their exact derivative.
 
 from __future__ import annotations
 
-from functools import partial
+from functools import lru_cache, partial
 
 import jax
 import jax.numpy as jnp
@@ -95,10 +102,36 @@ def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
     return w, jnp.stack([jnp.stack(v[r * n : (r + 1) * n], axis=-1) for r in range(n)], axis=-2)
 
 
+def _lapack(a: jnp.ndarray, vectors: bool):
+    w, u = jnp.linalg.eigh(a)
+    return w, (u if vectors else None)
+
+
+@lru_cache(maxsize=None)
+def _one_or_many(vectors: bool, sweeps: int):
+    """Eigen-solver of one matrix that switches algorithm under ``vmap``: a single n × n matrix goes to LAPACK
+    (one library call, where the unrolled Jacobi program would cost about a hundred small XLA kernels), a
+    batch of them to the elementwise Jacobi program (where LAPACK would loop over tiny matrices)."""
+
+    @jax.custom_batching.custom_vmap
+    def solve(a):
+        return _lapack(a, vectors)
+
+    @solve.def_vmap
+    def _batched(axis_size, in_batched, a):
+        (batched,) = in_batched
+        out = _jacobi(a, vectors, sweeps) if batched else solve(a)
+        return out, jax.tree.map(lambda _: batched, out)
+
+    return solve
+
+
 def _eigh_unsorted(a: jnp.ndarray, vectors: bool, sweeps: int):
-    if a.shape[-1] > MAX_JACOBI_SIZE:
-        w, u = jnp.linalg.eigh(a)
-        return w, (u if vectors else None)
+    n = a.shape[-1]
+    if n > MAX_JACOBI_SIZE:
+        return _lapack(a, vectors)
+    if a.ndim == 2 and n > 2 and jax.default_backend() == "cpu":
+        return _one_or_many(vectors, sweeps)(a)
     return _jacobi(a, vectors, sweeps)
 
 
