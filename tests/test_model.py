@@ -26,7 +26,6 @@ from mobman.model import (
     PlanarAngle,
     Position,
     robots,
-    spatial,
     stack,
 )
 from mobman.model.spatial import euler_angles, euler_matrix
@@ -222,34 +221,6 @@ def test_batched_equals_per_configuration(robot):
     for i in range(2):
         for k in range(2):
             np.testing.assert_allclose(batched[i, k], K.reduced_jacobian(robot, q[i, k]), atol=1e-15)
-
-
-@pytest.mark.parametrize("product", ["matmul", "matvec"])
-def test_small_products_one_batched_and_differentiated(product):
-    """spatial.matmul / matvec: written out for one product, a broadcast sum under vmap or with batch
-    dimensions; the same values every way, and derivatives (forward and reverse) equal to a @ b's."""
-    rng = np.random.default_rng(4)
-    a = jnp.asarray(rng.normal(size=(5, 3, 4)))
-    b = jnp.asarray(rng.normal(size=(5, 4, 2) if product == "matmul" else (5, 4)))
-    fn = getattr(spatial, product)
-    want = np.einsum("nij,nj...->ni...", a, b)
-    np.testing.assert_allclose(jax.vmap(fn)(a, b), want, rtol=1e-14)
-    np.testing.assert_allclose(fn(a, b), want, rtol=1e-14)
-    np.testing.assert_allclose(np.stack([fn(x, y) for x, y in zip(a, b)]), want, rtol=1e-14)
-
-    def loss(x, y):
-        return jnp.sum(jnp.sin(fn(x, y)))
-
-    def reference(x, y):
-        return jnp.sum(jnp.sin(x @ y))
-
-    for got, ref in zip(jax.grad(loss, (0, 1))(a[0], b[0]), jax.grad(reference, (0, 1))(a[0], b[0])):
-        np.testing.assert_allclose(got, ref, rtol=1e-13)
-    batched = jax.vmap(jax.grad(loss, (0, 1)))(a, b)
-    np.testing.assert_allclose(batched[0][0], jax.grad(reference)(a[0], b[0]), rtol=1e-13)
-    # one product compiles to elementwise terms, without reduction kernels
-    hlo = jax.jit(fn).lower(a[0], b[0]).compile().as_text()
-    assert " reduce(" not in hlo and "reduce_sum" not in hlo
 
 
 def test_inverse_velocity_realises_consistent_velocity_and_respects_constraint():

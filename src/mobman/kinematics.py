@@ -50,7 +50,7 @@ def _jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.n
 
 
 def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
-    return robot.reduce(_jacobian_one(robot, task, q), q)
+    return _jacobian_one(robot, task, q) @ robot.S(q)
 
 
 # --- public batched API ----------------------------------------------------------------------------

@@ -11,8 +11,9 @@ One matrix is different: unrolled, the Jacobi program is about a hundred tiny XL
 LAPACK solves a 6 × 6 problem in one call. So on the CPU a single n × n matrix (3 ≤ n ≤ 8) goes to LAPACK,
 and the solver switches to Jacobi when it is vectorised (``jax.custom_batching.custom_vmap``: ``vmap``,
 ``blocked`` batches and explicit batch dimensions all get the Jacobi program). 2 × 2 problems keep their
-single exact rotation; accelerators always use Jacobi. Measured on the 6 × 6 Gram matrix of a Panda J̄:
-about 25 µs per call through LAPACK against 70 µs through Jacobi (``benchmarks/kinematics.py``).
+single exact rotation; accelerators always use Jacobi. Measured on the 6 × 6 Gram matrix of a Panda J̄ (the
+measures of one configuration, compiled, alternated in one process): 23–44 µs through LAPACK against 68–88 µs
+through Jacobi, the spread being the machine's load.
 
 Convergence of cyclic Jacobi is quadratic once the off-diagonal part is small; :data:`SWEEPS` sweeps reach
 machine precision for the matrices met in kinematics (n ≤ 8; tested against LAPACK in ``tests/test_linalg.py``).

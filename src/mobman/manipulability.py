@@ -271,7 +271,7 @@ def _gradient(robot, q, task, which, measure, rank):
         if which == "arm":
             j = jac[:, robot.arm_slice(0)]
         else:
-            j = robot.reduce(jac, qq)
+            j = jac @ robot.S(qq)
             if limits is not None:
                 j = j * limits
         return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)[measure]

@@ -203,16 +203,6 @@ class MobileManipulator:
         )
         return jnp.concatenate([top, bottom], axis=0)
 
-    def reduce(self, jac: jnp.ndarray, q: jnp.ndarray) -> jnp.ndarray:
-        """J S for a Jacobian J (m × n_q): [J_p S_p(q_p), J_a], without forming the block-diagonal S.
-
-        The same product as ``jac @ self.S(q)``; it keeps every intermediate of a one-configuration program
-        small (XLA's CPU runtime runs a program whose buffers are all ≤ 512 bytes sequentially, at about a
-        tenth of a microsecond per kernel, and any other program on its thread pool, at about one).
-        """
-        n_p = self.platform.n_q
-        return jnp.concatenate([spatial.matmul(jac[:, :n_p], self.platform.S(q[:n_p])), jac[:, n_p:]], axis=1)
-
     def constraints(self, q: jnp.ndarray) -> jnp.ndarray:
         """G(q) = [G_p(q_p) 0] with G(q) q̇ = 0 (Bayle §4.2), shape (n_q − n_eta, n_q)."""
         g_p = self.platform.constraints(q[: self.platform.n_q])

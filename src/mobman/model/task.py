@@ -124,14 +124,9 @@ class MountPosition(Task):
         return lin[np.array(_components(self.components))]
 
 
-_AXIS_SKEWS = np.stack([spatial.skew(e) for e in np.eye(3)])
-"""[e_x]×, [e_y]×, [e_z]×."""
-
-
 @dataclass(frozen=True)
 class _OrientationTask(Task):
-    """Angles g(R) of an arm frame's rotation R; J = A J_ω with A = ∂g/∂R · ([e_c]× R), c = x, y, z (the
-    map from angular velocity to angle rates) and J_ω the frame's angular velocity Jacobian."""
+    """Angles g(R) of an arm frame's rotation R; J = ∂g/∂R · ([ω_j]× R) for every column j."""
 
     arm: int = field(default=0, kw_only=True)
     link: int = field(default=-1, kw_only=True)
@@ -152,10 +147,11 @@ class _OrientationTask(Task):
         upto = n - 1 if self.link == -1 else self.link
         _, omega = robot.point_jacobian(q, frames, ps[self.link], self.arm, upto)
         dg_dr = jax.jacfwd(self.angles)(r)  # (k, 3, 3)
-        # Ṙ = [ω]× R is linear in ω: the angle rates are A ω with A[:, c] = ∂g/∂R · ([e_c]× R)
-        dr = spatial.matmul(_AXIS_SKEWS, r)  # (3, 3, 3): [e_c]× R
-        rates = spatial.matmul(dg_dr.reshape(-1, 9), dr.reshape(3, 9).T)  # (k, 3)
-        return spatial.matmul(rates, omega)
+        # Ṙ = [ω]× R, so dR/dq_j = ω_j × (columns of R)
+        dr = jnp.stack(
+            [spatial.cross(jnp.broadcast_to(omega[:, j], (3, 3)), r.T).T for j in range(omega.shape[1])]
+        )  # (n_q, 3, 3)
+        return jnp.einsum("kab,jab->kj", dg_dr, dr)
 
 
 @dataclass(frozen=True)
