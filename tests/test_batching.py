@@ -30,7 +30,7 @@ def test_blocked_equals_vmap_for_every_batch_shape(batch):
 
 
 def test_blocked_kinematics_match_one_configuration_at_a_time():
-    """More configurations than a block (the padded path) give the per-configuration J̄ exactly."""
+    """More configurations than a block (blocked loop, last block moved back): J̄ as one at a time."""
     robot = robots.bayle_rrp()
     q = np.random.default_rng(1).uniform(-2, 2, (batching.BLOCK + 9, robot.n_q))
     batched = np.asarray(kinematics.reduced_jacobian(robot, q))
