@@ -33,11 +33,6 @@ def _task(robot: MobileManipulator, task: Task | None) -> Task:
     return task
 
 
-def _batched(fn: Callable) -> Callable:
-    """Vectorise a one-configuration function over the leading dimensions of q (cache-blocked on the CPU)."""
-    return blocked(fn)
-
-
 # --- single-configuration kernels ----------------------------------------------------------------
 
 
@@ -58,27 +53,27 @@ def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.nd
 
 @partial(jax.jit, static_argnums=(0, 2))
 def _forward(robot, q, task):
-    return _batched(partial(_forward_one, robot, task))(q)
+    return blocked(partial(_forward_one, robot, task))(q)
 
 
 @partial(jax.jit, static_argnums=(0, 2))
 def _jacobian(robot, q, task):
-    return _batched(partial(_jacobian_one, robot, task))(q)
+    return blocked(partial(_jacobian_one, robot, task))(q)
 
 
 @partial(jax.jit, static_argnums=(0, 2))
 def _reduced_jacobian(robot, q, task):
-    return _batched(partial(_reduced_one, robot, task))(q)
+    return blocked(partial(_reduced_one, robot, task))(q)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _S(robot, q):
-    return _batched(robot.S)(q)
+    return blocked(robot.S)(q)
 
 
 @partial(jax.jit, static_argnums=(0,))
 def _constraints(robot, q):
-    return _batched(robot.constraints)(q)
+    return blocked(robot.constraints)(q)
 
 
 def _q(robot: MobileManipulator, q):

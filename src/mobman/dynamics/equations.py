@@ -137,9 +137,8 @@ def body_jacobians(model: DynamicModel, q: jnp.ndarray, payload_mass: float | No
         return body.payload, -1 if body.arm is None else body.arm
 
     j_v, j_w, ordered = [], [], []
-    for key in sorted(
-        {chain(body) for body in parts}
-    ):  # one vmapped point_jacobian per chain: fast to compile
+    chains = sorted({chain(body) for body in parts})
+    for key in chains:  # one vmapped point_jacobian per chain: fast to compile
         members = [body for body in parts if chain(body) == key]
         ordered += members
         arm = members[0].arm
