@@ -166,3 +166,19 @@ def test_measures_under_jit_tracing():
 def test_bad_input_is_a_clear_error(call, match):
     with pytest.raises(InputError, match=match):
         call()
+
+
+def test_measures_accept_any_numeric_jacobian_and_reject_vectors():
+    """Integer, float32, NumPy and jax inputs give the float64 measures; a float64 jax.Array is used as it is
+    (no re-wrapped copy, which would leave jit's fast dispatch path); a vector is refused by name."""
+    j = np.array([[2.0, 0.0, 1.0], [0.0, 1.0, 0.0]])
+    want = mp.measures(j)
+    for given in (j.astype(int), j.astype(np.float32), jnp.asarray(j, dtype=jnp.float32), jnp.asarray(j)):
+        got = mp.measures(given)
+        for key in mp.MEASURES:
+            assert got[key].dtype == jnp.float64
+            np.testing.assert_allclose(got[key], want[key], rtol=1e-7)
+    arr = jnp.asarray(j)
+    assert mp._as_jacobian(arr) is arr
+    with pytest.raises(InputError, match=r"shape \(\.\.\., m, k\)"):
+        mp.measures(np.ones(3))
