@@ -77,9 +77,12 @@ def _constraints(robot, q):
 
 
 def _q(robot: MobileManipulator, q):
-    """Validated configurations; NumPy arrays go to the compiled functions as they are (no device copy)."""
+    """Validated configurations. NumPy arrays go to the compiled functions as they are; a ``jax.Array`` is
+    checked on its device and passed on without a copy to the host."""
     if isinstance(q, jax.core.Tracer):
         return q
+    if isinstance(q, jax.Array):
+        return robot.validate_q_on_device(q)
     return robot.validate_q(q)
 
 
