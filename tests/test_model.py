@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mobman
+import mobman.model.robot as robot_module
 from mobman import kinematics as K
 from mobman.model import (
     Arm,
@@ -386,12 +387,18 @@ def test_bad_configuration_raises_input_error(as_array):
         K.forward(robot, np.zeros(5), Position(arm=2))
 
 
-def test_configurations_on_the_device_are_checked_there_and_not_copied():
+@pytest.mark.parametrize("in_host_memory", [True, False], ids=["host", "accelerator"])
+def test_configurations_on_the_device_are_checked_there_and_not_copied(monkeypatch, in_host_memory):
     """A float64 jax.Array batch is validated on its device and reaches the compiled kernels as it is (a
     round trip through NumPy cost 20 ms per million configurations on a GPU); other dtypes become float64."""
+    # on a CPU-only machine the accelerator branch (one reduction on the device) is taken by pretending
+    monkeypatch.setattr(robot_module, "_in_host_memory", lambda q: in_host_memory)
     robot = robots.bayle_planar()
     q = jnp.asarray(np.random.default_rng(0).uniform(-1, 1, (7, 5)))
     assert K._q(robot, q) is q
+    for bad in (np.nan, np.inf, -np.inf):
+        with pytest.raises(mobman.InputError, match="NaN or infinite"):
+            K._q(robot, q.at[3, 2].set(bad))
     as_int = K._q(robot, jnp.zeros((3, 5), dtype=jnp.int32))
     assert isinstance(as_int, jax.Array) and as_int.dtype == jnp.float64
     np.testing.assert_array_equal(K.reduced_jacobian(robot, q), K.reduced_jacobian(robot, np.asarray(q)))
