@@ -197,8 +197,8 @@ class MobileManipulator:
         H200: that round trip cost 20 ms per million configurations, twice the kinematics itself); in host
         memory NumPy reads it in place (cheaper than a compiled call for one configuration).
         Returns the array itself when it is float64."""
-        if _in_host_memory(q):  # NumPy reads it without a copy
-            self._check_q(q.shape, lambda: bool(np.all(np.isfinite(np.asarray(q)))))
+        if _in_host_memory(q):
+            self.validate_q(q)  # NumPy reads host memory in place
         else:
             self._check_q(q.shape, lambda: bool(_all_finite(q)))
         return q if q.dtype == jnp.float64 else q.astype(jnp.float64)
