@@ -15,6 +15,7 @@ analytic Jacobian a task-space controller uses. Timings are the best of a few re
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import time
 
@@ -22,6 +23,7 @@ import jax
 import numpy as np
 
 import mobman  # noqa: F401  (float64)
+from mobman import batching
 from mobman import manipulability as mp
 from mobman.model import Arm, DifferentialDrive, MobileManipulator
 from mobman.model.spatial import transform
@@ -138,6 +140,16 @@ def single(robot, q):
     return out
 
 
+@contextlib.contextmanager
+def one_worker():
+    """Large batches on one thread, as before ``batching.across_cores`` shared them between the cores."""
+    workers, batching.WORKERS = batching.WORKERS, 1
+    try:
+        yield
+    finally:
+        batching.WORKERS = workers
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100_000, help="configurations in the batched run")
@@ -155,6 +167,9 @@ def main(argv=None) -> None:
     jbar, meas = jax.block_until_ready(batched(robot, q_device))
     first = time.perf_counter() - t0
     t_batch = best_time(lambda: batched(robot, q_device), 3)
+    with one_worker():
+        batched(robot, q_device)
+        t_one_core = best_time(lambda: batched(robot, q_device), 3)
     single(robot, q[:2])
     t_single = best_time(lambda: single(robot, q[: args.single]), 2)
     nb = min(args.baseline, args.n)
@@ -166,7 +181,8 @@ def main(argv=None) -> None:
     ours = np.stack([np.asarray(meas[k][:nb]) for k in mp.MEASURES], axis=-1)
     err_m = float(np.max(np.abs(ours - meas_np)))
     rows = [
-        ("batched public API (system_jacobian + measures)", args.n, t_batch),
+        (f"batched public API (system_jacobian + measures), {batching.WORKERS} threads", args.n, t_batch),
+        ("the same on one thread (batching.WORKERS = 1)", args.n, t_one_core),
         ("single configuration, public API", args.single, t_single),
         ("NumPy per call (J̄ + np.linalg.svd)", nb, t_numpy),
     ]
@@ -174,9 +190,9 @@ def main(argv=None) -> None:
         f"Panda on a differential base, J̄ 6 × 9 (position + ZYX Euler rows) + w, w2, w5; device: "
         f"{jax.devices()[0].platform}; first batched call (compile) {first:.1f} s"
     )
-    print(f"{'variant':50s} {'configs':>9s} {'µs/config':>11s} {'configs/s':>12s}")
+    print(f"{'variant':60s} {'configs':>9s} {'µs/config':>11s} {'configs/s':>12s}")
     for name, n, t in rows:
-        print(f"{name:50s} {n:9d} {1e6 * t / n:11.3f} {n / t:12.3e}")
+        print(f"{name:60s} {n:9d} {1e6 * t / n:11.3f} {n / t:12.3e}")
     print(f"max |J̄ − NumPy| = {err_j:.1e}, max |measures − NumPy SVD| = {err_m:.1e}")
 
 

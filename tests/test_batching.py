@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import threading
+
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mobman import batching, kinematics
+from mobman import batching, kinematics, manipulability
 from mobman.model import robots
 
 
@@ -36,3 +38,77 @@ def test_blocked_kinematics_match_one_configuration_at_a_time():
     batched = np.asarray(kinematics.reduced_jacobian(robot, q))
     single = np.stack([np.asarray(kinematics.reduced_jacobian(robot, qi)) for qi in q[-12:]])
     np.testing.assert_allclose(batched[-12:], single, rtol=1e-12, atol=1e-13)
+
+
+# --- across_cores: large CPU batches shared between threads ----------------------------------------------
+
+
+@pytest.fixture
+def three_small_shares(monkeypatch):
+    """Three workers and shares of at least 4 rows, whatever the machine, so the splitting runs in tests."""
+    monkeypatch.setattr(batching, "WORKERS", 3)
+    monkeypatch.setattr(batching, "MIN_SHARE", 4)
+
+
+def _recording(calls: list):
+    """A compiled pytree-valued kernel of (x (..., 3), y (..., 2)) that records its batch sizes and threads."""
+
+    @jax.jit
+    def kernel(x, scale, y):
+        return {"x": x * scale + jnp.sum(y, axis=-1, keepdims=True), "n": jnp.linalg.norm(x, axis=-1)}
+
+    def compiled(x, scale, y):
+        calls.append((np.shape(x)[0], threading.current_thread().name))
+        return kernel(x, scale, y)
+
+    return kernel, batching.across_cores({0: 1, 2: 1})(compiled)
+
+
+@pytest.mark.parametrize("as_jax", [False, True])
+@pytest.mark.parametrize("batch", [(20,), (4, 5), (3, 7)])
+def test_across_cores_equals_one_call(three_small_shares, batch, as_jax):
+    """Equal shares (the last moved back when the size does not divide), joined in order, any batch shape,
+    NumPy or jax input, the static argument passed to every share, the other argument broadcast."""
+    rng = np.random.default_rng(2)
+    x, y = rng.normal(size=batch + (3,)), rng.normal(size=batch[-1:] + (2,))
+    if as_jax:
+        x, y = jnp.asarray(x), jnp.asarray(y)
+    calls = []
+    kernel, split = _recording(calls)
+    got, want = split(x, 2.0, y), kernel(x, 2.0, y)
+    size = int(np.prod(batch))
+    assert [n for n, _ in calls] == [-(-size // 3)] * 3
+    assert all(name.startswith("mobman") for _, name in calls)
+    for key in ("x", "n"):
+        assert got[key].shape == want[key].shape
+        np.testing.assert_array_equal(np.asarray(got[key]), np.asarray(want[key]))
+
+
+def test_across_cores_plain_call_for_small_batches_tracers_and_one_worker(three_small_shares, monkeypatch):
+    calls = []
+    kernel, split = _recording(calls)
+    x, y = np.ones((11, 3)), np.ones((11, 2))
+    split(x, 1.0, y)  # 11 rows: at most two shares of 4, so two workers
+    assert [n for n, _ in calls] == [6, 6]
+    calls.clear()
+    split(x[:7], 1.0, y[:7])  # under two shares
+    jax.jit(lambda a, b: split(a, 1.0, b))(x, y)  # traced: one call inside the caller's program
+    assert [n for n, _ in calls] == [7, 11]
+    calls.clear()
+    monkeypatch.setattr(batching, "WORKERS", 1)
+    split(x, 1.0, y)
+    assert [n for n, _ in calls] == [11]
+
+
+def test_public_functions_share_large_batches_between_threads(three_small_shares, monkeypatch):
+    """J̄ and the measures of a batch split between three threads equal those of one plain call."""
+    robot = robots.bayle_planar()
+    q = np.random.default_rng(4).uniform(-2, 2, (50, robot.n_q))
+    jbar = kinematics.reduced_jacobian(robot, q)
+    measures = manipulability.measures(jbar)
+    monkeypatch.setattr(batching, "WORKERS", 1)
+    np.testing.assert_allclose(
+        np.asarray(jbar), np.asarray(kinematics.reduced_jacobian(robot, q)), atol=1e-15
+    )
+    for key, value in manipulability.measures(jbar).items():
+        np.testing.assert_allclose(np.asarray(measures[key]), np.asarray(value), rtol=1e-13, atol=1e-15)

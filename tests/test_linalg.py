@@ -111,3 +111,22 @@ def test_gram_is_the_smaller_product():
     np.testing.assert_allclose(linalg.gram(jnp.asarray(a)), a @ np.swapaxes(a, -1, -2), rtol=1e-13)
     b = np.swapaxes(a, -1, -2)
     np.testing.assert_allclose(linalg.gram(jnp.asarray(b)), a @ np.swapaxes(a, -1, -2), rtol=1e-13)
+
+
+def test_eigenvalue_sweeps_stop_once_the_off_diagonal_part_is_negligible():
+    """The eigenvalue-only solver sweeps until ‖off(A)‖_F ≤ eps ‖A‖_F for every matrix of the batch, never
+    more than the fixed count; a diagonal batch takes no sweep. A stand-in sweep divides the off-diagonal
+    entry by 1000 and counts itself in a spare entry (the tolerance is set from the initial state)."""
+
+    def sweep(_, carry):
+        (d, off, count), v = carry
+        return [d, off / 1000.0, count + 1.0], v
+
+    def sweeps_run(off0, cap):
+        state = [jnp.full(4, 2.0), jnp.full(4, off0), jnp.zeros(4)]
+        return np.asarray(linalg._sweep_until_converged(sweep, (state, []), [1], cap)[0][2])
+
+    # ‖A‖_F = √6: converged when off ≤ 5.4e-16, after 6 divisions by 1000 (1e-18) and not 5 (1e-15)
+    np.testing.assert_array_equal(sweeps_run(1.0, 7), 6)
+    np.testing.assert_array_equal(sweeps_run(1.0, 4), 4)
+    np.testing.assert_array_equal(sweeps_run(0.0, 7), 0)

@@ -21,7 +21,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mobman.batching import blocked
+from mobman.batching import across_cores, blocked
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
@@ -51,26 +51,31 @@ def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.nd
 # --- public batched API ----------------------------------------------------------------------------
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0, 2))
 def _forward(robot, q, task):
     return blocked(partial(_forward_one, robot, task))(q)
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0, 2))
 def _jacobian(robot, q, task):
     return blocked(partial(_jacobian_one, robot, task))(q)
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0, 2))
 def _reduced_jacobian(robot, q, task):
     return blocked(partial(_reduced_one, robot, task))(q)
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _S(robot, q):
     return blocked(robot.S)(q)
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _constraints(robot, q):
     return blocked(robot.constraints)(q)

@@ -34,7 +34,7 @@ import numpy as np
 
 from mobman import kinematics as K
 from mobman import linalg
-from mobman.batching import blocked
+from mobman.batching import across_cores, blocked
 from mobman.errors import InputError, ModelError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
@@ -90,6 +90,7 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
     }
 
 
+@across_cores({0: 2})
 @partial(jax.jit, static_argnums=(1,))
 def _measures(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
     def one(jj):
@@ -262,6 +263,7 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
     return out
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0, 2, 3, 4, 5))
 def _gradient(robot, q, task, which, measure, rank):
     limits = np.asarray(robot.velocity_limits) if which == "system_normalized" else None

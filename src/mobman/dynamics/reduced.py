@@ -24,7 +24,7 @@ from functools import partial
 import jax
 import jax.numpy as jnp
 
-from mobman.batching import blocked
+from mobman.batching import across_cores, blocked
 from mobman.dynamics import equations as eq
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
@@ -89,6 +89,7 @@ def constraint_forces_one(model: DynamicModel, q, eta, eta_dot, tau):
 # --- batched public API ---------------------------------------------------------------------------
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _reduced_mass(model, q):
     return blocked(partial(reduced_mass_matrix_one, model))(q)
@@ -103,11 +104,13 @@ def reduced_terms_one(model: DynamicModel, q, eta, payload_mass: float | None = 
     )
 
 
+@across_cores({1: 1, 2: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _terms(model, q, eta):
     return blocked(partial(reduced_terms_one, model))(q, eta)
 
 
+@across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _input(model, q):
     return blocked(partial(input_matrix_one, model))(q)
@@ -123,11 +126,13 @@ def _solve_forward(p, b, b_mat, tau):
     return jnp.linalg.solve(p, b_mat @ tau[..., None] - b[..., None])[..., 0]
 
 
+@across_cores({1: 1, 2: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _energy(model, q, eta):
     return blocked(partial(energy_one, model))(q, eta)
 
 
+@across_cores({1: 1, 2: 1, 3: 1, 4: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _constraint_forces(model, q, eta, eta_dot, tau):
     return blocked(partial(constraint_forces_one, model))(q, eta, eta_dot, tau)
