@@ -11,7 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mobman import InputError, ModelError, SingularConfigurationError, kinematics
+from mobman import InputError, ModelError, SingularConfigurationError, batching, kinematics
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.control.simulation import _step
 from mobman.model import robots
@@ -338,6 +338,27 @@ def test_batched_runs_equal_single_runs(runs):
     batch = simulate(ROBOT, TASK, bayle(W=np.array([2.0, 3.0]), k=0.5), line, q0s, DURATION, DT)
     assert batch.q.shape == (2, 201, 5) and np.allclose(batch.q[0], single.q, atol=1e-12)
     assert not np.allclose(batch.q[1], single.q)
+
+
+def test_a_batch_of_initial_configurations_is_shared_between_threads(monkeypatch):
+    """Nine runs on three workers (shares of 5, the second moved back to start at run 4): every run as when
+    simulated alone, with progress chunks."""
+    monkeypatch.setattr(batching, "WORKERS", 3)
+    shares, take = [], batching._take
+    monkeypatch.setattr(
+        batching, "_take", lambda x, start, size: shares.append((start, size)) or take(x, start, size)
+    )
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    line = references.Line(xi0, xi0 + [0.3, 0.2], DURATION)
+    offsets = np.linspace(-0.2, 0.2, 9)[:, None] * np.array([1.0, 0.5, 0.3, 0.2, 0.1])
+    law = bayle(W=2.0, k=0.5)
+    batch = simulate(ROBOT, TASK, law, line, Q0 + offsets, DURATION, DT, progress=lambda f: None, chunk=60)
+    assert batch.q.shape == (9, 201, 5)
+    assert set(shares) == {(0, 5), (4, 5)} and len(shares) == 2 * 4  # two shares in each of 4 chunks
+    for i in (0, 4, 8):
+        alone = simulate(ROBOT, TASK, law, line, Q0 + offsets[i], DURATION, DT)
+        np.testing.assert_allclose(batch.q[i], alone.q, atol=1e-12)
+        np.testing.assert_allclose(batch.eta[i], alone.eta, atol=1e-10)
 
 
 def test_measures_and_metrics(runs):

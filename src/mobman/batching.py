@@ -81,7 +81,7 @@ def _in_blocks(kernel: Callable, flat: list, size: int):
     return jax.lax.fori_loop(0, -(-size // BLOCK), body, out)
 
 
-def across_cores(core_ndims: dict[int, int]) -> Callable[[Callable], Callable]:
+def across_cores(core_ndims: dict[int, int], min_share: int | None = None) -> Callable[[Callable], Callable]:
     """Decorator for a compiled batched function (its outputs all batched along the leading dimensions of
     its inputs, as :func:`blocked` makes them): large CPU batches run as :data:`WORKERS` concurrent calls.
 
@@ -89,12 +89,14 @@ def across_cores(core_ndims: dict[int, int]) -> Callable[[Callable], Callable]:
     arguments (robots, tasks, static options) go unchanged to every call. The batch is the broadcast of the
     batched arguments' leading dimensions. The shares have equal sizes (the last one moved back to end at the
     batch's end, so one compiled program serves every share) and the results are joined in order.
+    ``min_share``: the smallest share worth a thread (:data:`MIN_SHARE` by default; lower for costly rows,
+    such as whole simulations).
     """
 
     def decorate(compiled: Callable) -> Callable:
         @functools.wraps(compiled)
         def call(*args, **kwargs):
-            plan = _share_plan(args, core_ndims)
+            plan = _share_plan(args, core_ndims, MIN_SHARE if min_share is None else min_share)
             if plan is None:
                 return compiled(*args, **kwargs)
             batch, flat, share, starts = plan
@@ -113,7 +115,7 @@ def across_cores(core_ndims: dict[int, int]) -> Callable[[Callable], Callable]:
     return decorate
 
 
-def _share_plan(args: tuple, core_ndims: dict[int, int]):
+def _share_plan(args: tuple, core_ndims: dict[int, int], min_share: int):
     """(batch shape, flattened batched arguments, share size, share starts), or None for one plain call."""
     if WORKERS < 2 or jax.default_backend() != "cpu":
         return None
@@ -130,7 +132,7 @@ def _share_plan(args: tuple, core_ndims: dict[int, int]):
     except ValueError:
         return None
     size = math.prod(batch)
-    workers = min(WORKERS, size // MIN_SHARE)
+    workers = min(WORKERS, size // min_share)
     if workers < 2:
         return None
     flat = {}

@@ -34,6 +34,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman.batching import across_cores
 from mobman.control.laws import AugmentedJacobian
 from mobman.control.references import Reference
 from mobman.errors import InputError, ModelError, SingularConfigurationError
@@ -184,6 +185,10 @@ def _run(robot, task, integrator, n, dt, reference, law, q0, batch_law, batch_q,
     return fn(law, q0, k0)
 
 
+_run_shared = across_cores({7: 1}, min_share=4)(_run)
+""":func:`_run` for a batch of initial configurations (one law): the runs shared between the CPU cores."""
+
+
 def _stack_laws(laws: Sequence) -> object:
     try:
         return jax.tree.map(lambda *xs: jnp.stack([jnp.asarray(x, dtype=float) for x in xs]), *laws)
@@ -293,9 +298,10 @@ def simulate(
     _measure_names(measures)
 
     chunk = n if progress is None else max(1, min(chunk, n))
+    run = _run_shared if batch_q and not batch_law else _run
     pieces, q, k0 = [], jnp.asarray(q0), 0
     while k0 < n:
-        q, out = _run(
+        q, out = run(
             robot, task, integrator, chunk, float(dt), reference, law_arg, q, batch_law, batch_q, float(k0)
         )
         pieces.append(out)
