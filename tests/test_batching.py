@@ -58,7 +58,8 @@ def _recording(calls: list):
         return {"x": x * scale + jnp.sum(y, axis=-1, keepdims=True), "n": jnp.linalg.norm(x, axis=-1)}
 
     def compiled(x, scale, y):
-        calls.append((np.shape(x)[0], threading.current_thread().name))
+        traced = isinstance(x, jax.core.Tracer)
+        calls.append((np.shape(x)[0], "traced" if traced else threading.current_thread().name))
         return kernel(x, scale, y)
 
     return kernel, batching.across_cores({0: 1, 2: 1})(compiled)
@@ -77,8 +78,9 @@ def test_across_cores_equals_one_call(three_small_shares, batch, as_jax):
     kernel, split = _recording(calls)
     got, want = split(x, 2.0, y), kernel(x, 2.0, y)
     size = int(np.prod(batch))
-    assert [n for n, _ in calls] == [-(-size // 3)] * 3
-    assert all(name.startswith("mobman") for _, name in calls)
+    runs = [(n, name) for n, name in calls if name != "traced"]  # traced once for the output shapes
+    assert [n for n, _ in runs] == [-(-size // 3)] * 3
+    assert all(name.startswith("mobman") for _, name in runs)
     for key in ("x", "n"):
         assert got[key].shape == want[key].shape
         np.testing.assert_array_equal(np.asarray(got[key]), np.asarray(want[key]))
@@ -88,12 +90,13 @@ def test_across_cores_plain_call_for_small_batches_tracers_and_one_worker(three_
     calls = []
     kernel, split = _recording(calls)
     x, y = np.ones((11, 3)), np.ones((11, 2))
-    split(x, 1.0, y)  # 11 rows: at most two shares of 4, so two workers
-    assert [n for n, _ in calls] == [6, 6]
+    split(x, 1.0, y)  # 11 rows: at most two shares of 4, so two workers (after one trace for the shapes)
+    assert calls[0] == (6, "traced") and [n for n, _ in calls[1:]] == [6, 6]
+    assert all(name.startswith("mobman") for _, name in calls[1:])
     calls.clear()
     split(x[:7], 1.0, y[:7])  # under two shares
     jax.jit(lambda a, b: split(a, 1.0, b))(x, y)  # traced: one call inside the caller's program
-    assert [n for n, _ in calls] == [7, 11]
+    assert calls == [(7, "MainThread"), (11, "traced")]
     calls.clear()
     monkeypatch.setattr(batching, "WORKERS", 1)
     split(x, 1.0, y)

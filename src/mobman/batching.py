@@ -88,7 +88,8 @@ def across_cores(core_ndims: dict[int, int], min_share: int | None = None) -> Ca
     ``core_ndims`` maps the position of every batched argument to its number of core dimensions; the other
     arguments (robots, tasks, static options) go unchanged to every call. The batch is the broadcast of the
     batched arguments' leading dimensions. The shares have equal sizes (the last one moved back to end at the
-    batch's end, so one compiled program serves every share) and the results are joined in order.
+    batch's end, so one compiled program serves every share). Each thread copies its share's results into
+    one output buffer per result, which JAX takes over without a copy (DLPack).
     ``min_share``: the smallest share worth a thread (:data:`MIN_SHARE` by default; lower for costly rows,
     such as whole simulations).
     """
@@ -99,20 +100,38 @@ def across_cores(core_ndims: dict[int, int], min_share: int | None = None) -> Ca
             plan = _share_plan(args, core_ndims, MIN_SHARE if min_share is None else min_share)
             if plan is None:
                 return compiled(*args, **kwargs)
-            batch, flat, share, starts = plan
-
-            def run(start):
-                sub = list(args)
-                for i, x in flat.items():
-                    sub[i] = _take(x, start, share)
-                return compiled(*sub, **kwargs)
-
-            parts = list(_pool(WORKERS).map(run, starts))
-            return jax.tree.map(lambda a: a.reshape(batch + a.shape[1:]), _join(parts, math.prod(batch)))
+            return _shared_call(compiled, args, kwargs, *plan)
 
         return call
 
     return decorate
+
+
+def _shared_call(
+    compiled: Callable, args: tuple, kwargs: dict, batch: tuple, flat: dict, share: int, starts: list
+):
+    """``compiled`` on the shares ``flat[i][start : start + share]`` from the thread pool, each thread copying
+    its results into the joint output buffers (the rows the last share recomputed are skipped)."""
+
+    def with_shares(take):
+        sub = list(args)
+        for i, x in flat.items():
+            sub[i] = take(x)
+        return sub
+
+    abstract = with_shares(lambda x: jax.ShapeDtypeStruct((share,) + x.shape[1:], x.dtype))
+    shapes = jax.eval_shape(compiled, *abstract, **kwargs)
+    rows = math.prod(batch)
+    outs = jax.tree.map(lambda s: _aligned_empty((rows,) + s.shape[1:], s.dtype), shapes)
+
+    def run(k: int) -> None:
+        part = compiled(*with_shares(lambda x: _take(x, starts[k], share)), **kwargs)
+        done = k * share - starts[k]
+        for out, leaf in zip(jax.tree.leaves(outs), jax.tree.leaves(part)):
+            np.copyto(out[k * share : starts[k] + share], np.asarray(leaf)[done:])
+
+    list(_pool(WORKERS).map(run, range(len(starts))))
+    return jax.tree.map(lambda o: _as_jax(o.reshape(batch + o.shape[1:])), outs)
 
 
 def _share_plan(args: tuple, core_ndims: dict[int, int], min_share: int):
@@ -152,12 +171,18 @@ def _take(x, start: int, size: int):
     return x[start : start + size]
 
 
-@functools.partial(jax.jit, static_argnums=(1,))
-def _join(parts: list, size: int):
-    """Concatenate the shares' results along axis 0, dropping the rows the last share recomputed."""
-    share = jax.tree.leaves(parts[0])[0].shape[0]
-    overlap = share * len(parts) - size
-    return jax.tree.map(lambda *xs: jnp.concatenate(xs[:-1] + (xs[-1][overlap:],)), *parts)
+def _aligned_empty(shape: tuple, dtype) -> np.ndarray:
+    """An uninitialised NumPy array whose data start on a 64-byte boundary, so that JAX can take it over
+    without a copy (:func:`_as_jax`)."""
+    nbytes = math.prod(shape) * np.dtype(dtype).itemsize
+    raw = np.empty(nbytes + 64, dtype=np.uint8)
+    offset = -raw.ctypes.data % 64
+    return raw[offset : offset + nbytes].view(dtype).reshape(shape)
+
+
+def _as_jax(x: np.ndarray) -> jax.Array:
+    """The joined result as a jax.Array sharing x's memory (DLPack; x is not used again)."""
+    return jnp.from_dlpack(x) if x.size else jnp.zeros(x.shape, x.dtype)
 
 
 @functools.cache
