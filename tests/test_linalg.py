@@ -113,20 +113,34 @@ def test_gram_is_the_smaller_product():
     np.testing.assert_allclose(linalg.gram(jnp.asarray(b)), a @ np.swapaxes(a, -1, -2), rtol=1e-13)
 
 
-def test_eigenvalue_sweeps_stop_once_the_off_diagonal_part_is_negligible():
-    """The eigenvalue-only solver sweeps until ‖off(A)‖_F ≤ eps ‖A‖_F for every matrix of the batch, never
-    more than the fixed count; a diagonal batch takes no sweep. A stand-in sweep divides the off-diagonal
-    entry by 1000 and counts itself in a spare entry (the tolerance is set from the initial state)."""
+def test_eigenvalue_sweeps_stop_once_the_diagonal_is_within_eps_of_the_eigenvalues():
+    """The eigenvalue-only solver sweeps until every matrix of the batch passes Weyl's test (‖E‖_F ≤ eps ‖A‖_F)
+    or, with a gap g between diagonal entries, the Kato–Temple test (‖E‖_F² ≤ eps ‖A‖_F (g − ‖E‖_F)), never
+    more than the cap; a diagonal batch takes no sweep. A 2 × 2 stand-in sweep divides the off-diagonal entry
+    by 1000 and counts itself in a spare entry (the tolerance is set from the initial state)."""
 
     def sweep(_, carry):
-        (d, off, count), v = carry
-        return [d, off / 1000.0, count + 1.0], v
+        (d0, off, d1, count), v = carry
+        return [d0, off / 1000.0, d1, count + 1.0], v
 
-    def sweeps_run(off0, cap):
-        state = [jnp.full(4, 2.0), jnp.full(4, off0), jnp.zeros(4)]
-        return np.asarray(linalg._sweep_until_converged(sweep, (state, []), [1], cap)[0][2])
+    def sweeps_run(d1, off0, cap):
+        state = [jnp.full(4, 2.0), jnp.full(4, off0), jnp.full(4, d1), jnp.zeros(4)]
+        return np.asarray(linalg._sweep_until_converged(sweep, (state, []), [0, 2], [1], cap)[0][3])
 
-    # ‖A‖_F = √6: converged when off ≤ 5.4e-16, after 6 divisions by 1000 (1e-18) and not 5 (1e-15)
-    np.testing.assert_array_equal(sweeps_run(1.0, 7), 6)
-    np.testing.assert_array_equal(sweeps_run(1.0, 4), 4)
-    np.testing.assert_array_equal(sweeps_run(0.0, 7), 0)
+    # equal diagonal (no gap): ‖A‖_F = √10, Weyl needs √2 off ≤ eps √10, i.e. off ≤ 5e-16: 6 divisions
+    np.testing.assert_array_equal(sweeps_run(2.0, 1.0, 7), 6)
+    np.testing.assert_array_equal(sweeps_run(2.0, 1.0, 4), 4)
+    np.testing.assert_array_equal(sweeps_run(2.0, 0.0, 7), 0)
+    # gap 1: ‖A‖_F = √7, Kato–Temple needs 2 off² ≤ eps √7 (1 − √2 off), i.e. off ≤ 1.7e-8: 3 divisions
+    np.testing.assert_array_equal(sweeps_run(1.0, 1.0, 7), 3)
+
+
+def test_stopped_sweeps_keep_the_eigenvalues_to_machine_precision():
+    """Where the Kato–Temple test stops the sweeps early (well-separated eigenvalues) the eigenvalues still
+    match LAPACK to a few eps · ‖A‖."""
+    u, _ = np.linalg.qr(RNG.normal(size=(300, 6, 6)))
+    lam = np.sort(RNG.uniform(0.0, 10.0, (300, 6)), axis=1)[:, ::-1]
+    a = (u * lam[:, None, :]) @ np.swapaxes(u, -1, -2)
+    got = np.asarray(linalg.eigvalsh(jnp.asarray(a)))
+    want = np.linalg.eigvalsh(a)[..., ::-1]
+    assert np.max(np.abs(got - want) / np.linalg.norm(a, axis=(-2, -1))[:, None]) < 10 * np.finfo(float).eps
