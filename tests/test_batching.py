@@ -103,6 +103,17 @@ def test_across_cores_plain_call_for_small_batches_tracers_and_one_worker(three_
     assert [n for n, _ in calls] == [11]
 
 
+def test_across_cores_joins_outputs_with_an_empty_core_dimension(three_small_shares):
+    """A result with a zero-size core (like the constraint rows of a holonomic platform) keeps its shape."""
+    split = batching.across_cores({0: 1})(
+        jax.jit(lambda x: {"none": jnp.zeros(x.shape[:1] + (0, 3)), "x": x})
+    )
+    x = np.random.default_rng(5).normal(size=(13, 3))
+    out = split(x)
+    assert out["none"].shape == (13, 0, 3)
+    np.testing.assert_array_equal(np.asarray(out["x"]), x)
+
+
 def test_public_functions_share_large_batches_between_threads(three_small_shares, monkeypatch):
     """J̄ and the measures of a batch split between three threads equal those of one plain call."""
     robot = robots.bayle_planar()

@@ -29,8 +29,7 @@ still get their exact derivative.
 
 from __future__ import annotations
 
-import functools
-from functools import lru_cache, partial
+from functools import lru_cache, partial, reduce
 
 import jax
 import jax.numpy as jnp
@@ -140,7 +139,7 @@ def _sweep_until_converged(sweep, init, diagonal: list[int], off: list[int], swe
         k, (s, _) = carry
         e2 = off_norm2(s)
         d = [s[i] for i in diagonal]
-        gap = functools.reduce(jnp.minimum, [jnp.abs(d[i] - d[j]) for i in range(len(d)) for j in range(i)])
+        gap = reduce(jnp.minimum, [jnp.abs(d[i] - d[j]) for i in range(len(d)) for j in range(i)])
         e = jnp.sqrt(e2)
         done = (e2 <= tol * tol) | ((gap > 2.0 * e) & (e2 <= tol * (gap - e)))
         return (k < sweeps) & ~jnp.all(done)
