@@ -86,6 +86,21 @@ def test_across_cores_equals_one_call(three_small_shares, batch, as_jax):
         np.testing.assert_array_equal(np.asarray(got[key]), np.asarray(want[key]))
 
 
+def test_across_cores_splits_a_batch_made_by_broadcasting(three_small_shares):
+    """The batch size is checked against the shares from the leading sizes' product, an upper bound of the
+    broadcast batch: arguments of 4 and 5 rows broadcast to 20 configurations are still split."""
+    rng = np.random.default_rng(6)
+    x, y = rng.normal(size=(4, 1, 3)), rng.normal(size=(5, 2))
+    calls = []
+    kernel, split = _recording(calls)
+    got, want = split(x, 3.0, y), kernel(x, 3.0, y)
+    assert [n for n, name in calls if name != "traced"] == [7, 7, 7]
+    assert got["x"].shape == (4, 5, 3) and got["n"].shape == (4, 5)  # every result over the whole batch
+    for key in ("x", "n"):  # the unsplit program vectorises the broadcast differently: equal to rounding
+        expected = np.broadcast_to(np.asarray(want[key]), got[key].shape)
+        np.testing.assert_allclose(np.asarray(got[key]), expected, rtol=1e-14, atol=1e-15)
+
+
 def test_across_cores_plain_call_for_small_batches_tracers_and_one_worker(three_small_shares, monkeypatch):
     calls = []
     kernel, split = _recording(calls)

@@ -20,6 +20,7 @@ from mobman.model import (
     DifferentialDrive,
     EulerAngles,
     FunctionTask,
+    Joint,
     MobileManipulator,
     Mount,
     MountPosition,
@@ -304,6 +305,34 @@ def _dh_matrix(theta, d, a, alpha):
     )
 
 
+@pytest.mark.parametrize("kind", ["revolute", "prismatic"])
+def test_joint_local_pose_is_origin_then_motion(kind):
+    """Joint.local_pose (Rodrigues written elementwise, constant factors folded with the origin) equals the
+    origin transform times the motion built independently (SciPy's rotation vector), batched."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(3)
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    origin = np.eye(4)
+    origin[:3, :3] = Rotation.from_rotvec(rng.normal(size=3)).as_matrix()
+    origin[:3, 3] = rng.normal(size=3)
+    joint = Joint(kind, tuple(axis), tuple(origin.ravel()), offset=0.3)
+    q = rng.uniform(-3, 3, size=(4, 2))
+    rot, p = joint.local_pose(jnp.asarray(q))
+    assert rot.shape == (4, 2, 3, 3) and p.shape == (4, 2, 3)
+    for index in np.ndindex(q.shape):
+        motion = np.eye(4)
+        value = q[index] + 0.3
+        if kind == "revolute":
+            motion[:3, :3] = Rotation.from_rotvec(value * axis).as_matrix()
+        else:
+            motion[:3, 3] = value * axis
+        expected = origin @ motion
+        np.testing.assert_allclose(rot[index], expected[:3, :3], atol=1e-14)
+        np.testing.assert_allclose(p[index], expected[:3, 3], atol=1e-14)
+
+
 def test_modified_dh_matches_textbook_product():
     arm = Arm.from_modified_dh(PANDA_MDH)
     q = np.random.default_rng(1).uniform(-2, 2, 7)
@@ -383,6 +412,10 @@ def test_bad_configuration_raises_input_error(as_array):
         K.forward(robot, as_array(np.array([[0.0] * 5, [0, 0, np.nan, 0, 0]])))
     with pytest.raises(mobman.InputError, match="NaN"):
         K.forward(robot, as_array(np.array([0, 0, np.inf, 0, 0])))
+    with pytest.raises(mobman.InputError, match="NaN"):
+        K.forward(robot, as_array(np.array([0, 0, np.inf, -np.inf, 0])))
+    # finite values whose sum overflows are still configurations
+    assert np.isfinite(K.S(robot, as_array(np.array([1e308, 1e308, 0.2, 0.0, 0.0])))).all()
     with pytest.raises(mobman.ModelError, match="arm index"):
         K.forward(robot, np.zeros(5), Position(arm=2))
 

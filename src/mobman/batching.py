@@ -135,17 +135,24 @@ def _shared_call(
 
 
 def _share_plan(args: tuple, core_ndims: dict[int, int], min_share: int):
-    """(batch shape, flattened batched arguments, share size, share starts), or None for one plain call."""
-    if WORKERS < 2 or jax.default_backend() != "cpu":
+    """(batch shape, flattened batched arguments, share size, share starts), or None for one plain call.
+
+    A single configuration is turned away first, from the shapes alone: its call pays nothing more."""
+    if WORKERS < 2:
         return None
-    if any(isinstance(a, jax.core.Tracer) for a in args):
+    shapes, leading, bound = {}, {}, 1
+    for i, n in core_ndims.items():
+        if i >= len(args):
+            return None
+        shape = args[i].shape if hasattr(args[i], "shape") else np.shape(args[i])
+        if len(shape) < n:
+            return None  # let the compiled function report the bad shape
+        shapes[i], leading[i] = shape, shape[: len(shape) - n]
+        bound *= math.prod(leading[i])
+    if bound < 2 * min_share:
+        return None  # the product of the leading sizes bounds the broadcast batch's size
+    if jax.default_backend() != "cpu" or any(isinstance(a, jax.core.Tracer) for a in args):
         return None
-    if any(i >= len(args) for i in core_ndims):
-        return None
-    shapes = {i: np.shape(args[i]) for i in core_ndims}
-    if any(len(shapes[i]) < n for i, n in core_ndims.items()):
-        return None  # let the compiled function report the bad shape
-    leading = {i: shapes[i][: len(shapes[i]) - n] for i, n in core_ndims.items()}
     try:
         batch = tuple(np.broadcast_shapes(*leading.values()))
     except ValueError:

@@ -45,7 +45,7 @@ def _jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.n
 
 
 def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
-    return _jacobian_one(robot, task, q) @ robot.S(q)
+    return robot.apply_S(_jacobian_one(robot, task, q), q)
 
 
 # --- public batched API ----------------------------------------------------------------------------

@@ -269,11 +269,10 @@ def _gradient(robot, q, task, which, measure, rank):
     limits = np.asarray(robot.velocity_limits) if which == "system_normalized" else None
 
     def value(qq):
-        jac = K._jacobian_one(robot, task, qq)
         if which == "arm":
-            j = jac[:, robot.arm_slice(0)]
+            j = K._jacobian_one(robot, task, qq)[:, robot.arm_slice(0)]
         else:
-            j = jac @ robot.S(qq)
+            j = K._reduced_one(robot, task, qq)
             if limits is not None:
                 j = j * limits
         return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)[measure]

@@ -85,14 +85,25 @@ class Joint:
         if self.velocity_max is not None and not (self.velocity_max > 0):
             raise ModelError(f"Joint {self.name!r}: velocity_max must be > 0, got {self.velocity_max!r}")
 
-    def motion(self, q: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
-        """(R, p) of the joint motion for coordinate q (batched)."""
+    def local_pose(self, q: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
+        """(R, p) of the joint frame in the previous frame: ``origin`` then the motion by q + offset (batched).
+
+        Written elementwise in q with constant NumPy factors, so that under XLA it fuses into the product
+        that composes it with the chain (half the chain's kernels of composing origin and motion apart).
+        Revolute, with the origin (R_o, p_o) and K = [axis]×: origin ∘ Rot(axis, v) =
+        (R_o + sin v · R_o K + (1 − cos v) · R_o K², p_o) (Rodrigues). Prismatic: (R_o, p_o + v · R_o axis).
+        """
+        r_o, p_o = spatial.fixed_pose(self.origin)
+        value = jnp.asarray(q) + self.offset
         axis = np.asarray(self.axis)
-        value = q + self.offset
         if self.kind == "revolute":
-            return spatial.axis_rotation(axis, value), jnp.zeros(jnp.shape(value) + (3,), dtype=value.dtype)
-        rot = jnp.broadcast_to(np.eye(3), jnp.shape(q) + (3, 3))
-        return rot, value[..., None] * axis
+            k = spatial.skew(axis)
+            s = jnp.sin(value)[..., None, None]
+            c = jnp.cos(value)[..., None, None]
+            rot = r_o + s * (r_o @ k) + (1.0 - c) * (r_o @ k @ k)
+            return rot, jnp.broadcast_to(p_o, jnp.shape(value) + (3,))
+        rot = jnp.broadcast_to(r_o, jnp.shape(value) + (3, 3))
+        return rot, p_o + value[..., None] * (r_o @ axis)
 
 
 @dataclass(frozen=True)
@@ -170,8 +181,7 @@ class Arm:
             pose = base
         rs, ps = [], []
         for i, joint in enumerate(self.joints):
-            pose = spatial.compose(pose, spatial.fixed_pose(joint.origin))
-            pose = spatial.compose(pose, joint.motion(motion[..., i]))
+            pose = spatial.compose(pose, joint.local_pose(motion[..., i]))
             rs.append(pose[0])
             ps.append(pose[1])
         pose = spatial.compose(pose, spatial.fixed_pose(self.tool))

@@ -104,15 +104,6 @@ def fixed_pose(t: Transform) -> tuple[np.ndarray, np.ndarray]:
     return m[:3, :3], m[:3, 3]
 
 
-def axis_rotation(axis: np.ndarray, angle: jnp.ndarray) -> jnp.ndarray:
-    """Rotation by ``angle`` about a constant unit ``axis`` (Rodrigues), batched over ``angle``."""
-    k = skew(axis)
-    k2 = k @ k
-    s = jnp.sin(angle)[..., None, None]
-    c = jnp.cos(angle)[..., None, None]
-    return np.eye(3) + s * k + (1.0 - c) * k2
-
-
 def planar_pose(x: jnp.ndarray, y: jnp.ndarray, theta: jnp.ndarray):
     """(R, p) of a frame at (x, y, 0) rotated by theta about the vertical axis."""
     c, s = jnp.cos(theta), jnp.sin(theta)

@@ -126,7 +126,9 @@ class MountPosition(Task):
 
 @dataclass(frozen=True)
 class _OrientationTask(Task):
-    """Angles g(R) of an arm frame's rotation R; J = ∂g/∂R · ([ω_j]× R) for every column j."""
+    """Angles g(R) of an arm frame's rotation R. With Ṙ = [ω]× R and ω = Σ_j ω_j q̇_j,
+    ∂g_k/∂q_j = ⟨∂g_k/∂R, [ω_j]× R⟩ = ω_j · vee(M_k − M_kᵀ) with M_k = (∂g_k/∂R) Rᵀ and
+    vee(A) = (A₂₁, A₀₂, A₁₀): one 3 × 3 product per angle instead of one per column."""
 
     arm: int = field(default=0, kw_only=True)
     link: int = field(default=-1, kw_only=True)
@@ -145,13 +147,10 @@ class _OrientationTask(Task):
         r = rs[self.link]
         n = robot.arms[self.arm].n_joints
         upto = n - 1 if self.link == -1 else self.link
-        _, omega = robot.point_jacobian(q, frames, ps[self.link], self.arm, upto)
-        dg_dr = jax.jacfwd(self.angles)(r)  # (k, 3, 3)
-        # Ṙ = [ω]× R, so dR/dq_j = ω_j × (columns of R)
-        dr = jnp.stack(
-            [spatial.cross(jnp.broadcast_to(omega[:, j], (3, 3)), r.T).T for j in range(omega.shape[1])]
-        )  # (n_q, 3, 3)
-        return jnp.einsum("kab,jab->kj", dg_dr, dr)
+        _, omega = robot.point_jacobian(q, frames, ps[self.link], self.arm, upto)  # (3, n_q)
+        m = spatial.matmul(jax.jacfwd(self.angles)(r), r.T)  # (k, 3, 3)
+        axial = jnp.stack([m[:, 2, 1] - m[:, 1, 2], m[:, 0, 2] - m[:, 2, 0], m[:, 1, 0] - m[:, 0, 1]], -1)
+        return jnp.sum(axial[:, :, None] * omega[None], axis=1)
 
 
 @dataclass(frozen=True)
