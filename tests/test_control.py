@@ -340,6 +340,34 @@ def test_batched_runs_equal_single_runs(runs):
     assert not np.allclose(batch.q[1], single.q)
 
 
+@pytest.mark.parametrize("integrator", ["lie", "hold"])
+def test_progress_chunks_continue_the_run_exactly(integrator):
+    """A run cut into chunks of 50 steps (not a multiple of the 12-step inner blocks of the compiled scan, so
+    each chunk ends inside a block) continues from the exact state: the same samples as one call."""
+    from mobman.control.simulation import _block_steps
+
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    line = references.Line(xi0, xi0 + [0.3, 0.2], DURATION)
+    assert 50 % _block_steps(ROBOT, line)
+    fractions = []
+    chunked = simulate(
+        ROBOT,
+        TASK,
+        bayle(),
+        line,
+        Q0,
+        DURATION,
+        DT,
+        integrator=integrator,
+        progress=fractions.append,
+        chunk=50,
+    )
+    whole = simulate(ROBOT, TASK, bayle(), line, Q0, DURATION, DT, integrator=integrator)
+    assert fractions == [50 / 201, 100 / 201, 150 / 201, 200 / 201, 1.0]
+    np.testing.assert_allclose(chunked.q, whole.q, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(chunked.eta, whole.eta, rtol=0, atol=1e-12)
+
+
 def test_a_batch_of_initial_configurations_is_shared_between_threads(monkeypatch):
     """Nine runs on three workers (shares of 5, the second moved back to start at run 4): every run as when
     simulated alone, with progress chunks."""

@@ -174,7 +174,26 @@ def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
             info["q_mid"] = q_mid
         return q_next, {"q": q, "eta": eta, "xi_star": xs, "info": info}
 
-    return jax.lax.scan(step, q0, k0 + jnp.arange(n, dtype=float))
+    steps = _block_steps(robot, reference)
+    blocks = -(-n // steps)
+
+    def block(q, k):
+        return jax.lax.scan(step, q, k + jnp.arange(steps, dtype=float))
+
+    q_end, out = jax.lax.scan(block, q0, k0 + steps * jnp.arange(blocks, dtype=float))
+    out = jax.tree.map(lambda a: a.reshape((blocks * steps,) + a.shape[2:]), out)
+    if n % steps:  # the last block ran past sample n − 1: the state after n steps is its sample n
+        q_end = out["q"][n]
+    return q_end, jax.tree.map(lambda a: a[:n], out)
+
+
+def _block_steps(robot: MobileManipulator, reference: Reference) -> int:
+    """Steps per inner scan. XLA's CPU runtime runs a loop body's kernels one after the other on the calling
+    thread only when every buffer they touch is at most 512 bytes; otherwise it schedules them as a task
+    graph over a thread pool, which costs more than these tiny kernels. The recorded samples of a block
+    (q, η, ξ*, each at most max(n_q, m) numbers a step) are kept under that size, and so is the block's
+    slice of the step indices; the outer scan over blocks writes them into the whole run's arrays."""
+    return max(1, 64 // max(robot.n_q, reference.dim))
 
 
 @partial(jax.jit, static_argnums=(0, 1, 2, 3, 8, 9))
