@@ -174,7 +174,7 @@ def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
             info["q_mid"] = q_mid
         return q_next, {"q": q, "eta": eta, "xi_star": xs, "info": info}
 
-    steps = _block_steps(robot, reference)
+    steps = _block_steps(robot, reference) if jax.default_backend() == "cpu" else n
     blocks = -(-n // steps)
 
     def block(q, k):
@@ -192,7 +192,8 @@ def _block_steps(robot: MobileManipulator, reference: Reference) -> int:
     thread only when every buffer they touch is at most 512 bytes; otherwise it schedules them as a task
     graph over a thread pool, which costs more than these tiny kernels. The recorded samples of a block
     (q, η, ξ*, each at most max(n_q, m) numbers a step) are kept under that size, and so is the block's
-    slice of the step indices; the outer scan over blocks writes them into the whole run's arrays."""
+    slice of the step indices; the outer scan over blocks writes them into the whole run's arrays. (On a
+    GPU the run is one block: there the nested loop only added launches, 10 % on an H200.)"""
     return max(1, 64 // max(robot.n_q, reference.dim))
 
 

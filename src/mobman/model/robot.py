@@ -188,8 +188,7 @@ class MobileManipulator:
     def validate_q(self, q) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values. Returns float64 NumPy."""
         arr = np.asarray(q, dtype=float)
-        # a finite sum proves every entry finite (NaN and ±inf propagate); only otherwise look at each entry
-        self._check_q(arr.shape, lambda: math.isfinite(arr.sum()) or bool(np.isfinite(arr).all()))
+        self._check_q(arr.shape, lambda: bool(np.isfinite(arr).all()))
         return arr
 
     def validate_q_on_device(self, q: jax.Array) -> jax.Array:
@@ -228,13 +227,11 @@ class MobileManipulator:
         return jnp.concatenate([top, bottom], axis=0)
 
     def apply_S(self, j: jnp.ndarray, q: jnp.ndarray) -> jnp.ndarray:
-        """J S(q) for a (m, n_q) matrix J, as [J_p S_p(q_p), J_a] without forming S (Bayle eq. 2): the
-        platform block is a broadcast product and the arm columns pass through (cheaper under XLA than a
-        general matrix product)."""
+        """J S(q) for a (m, n_q) matrix J, as [J_p S_p(q_p), J_a] without forming S (Bayle eq. 2). For one
+        configuration this keeps XLA's program small (no n_q × n_eta S, one 3 × 2 product instead of a
+        general one); batched it is as fast as J S."""
         n_p = self.platform.n_q
-        s_p = self.platform.S(q[:n_p])
-        j_p = jnp.sum(j[:, :n_p, None] * s_p[None], axis=1)
-        return jnp.concatenate([j_p, j[:, n_p:]], axis=1)
+        return jnp.concatenate([j[:, :n_p] @ self.platform.S(q[:n_p]), j[:, n_p:]], axis=1)
 
     def constraints(self, q: jnp.ndarray) -> jnp.ndarray:
         """G(q) = [G_p(q_p) 0] with G(q) q̇ = 0 (Bayle §4.2), shape (n_q − n_eta, n_q)."""
