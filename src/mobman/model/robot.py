@@ -228,8 +228,8 @@ class MobileManipulator:
 
     def apply_S(self, j: jnp.ndarray, q: jnp.ndarray) -> jnp.ndarray:
         """J S(q) for a (m, n_q) matrix J, as [J_p S_p(q_p), J_a] without forming S (Bayle eq. 2). For one
-        configuration this keeps XLA's program small (no n_q × n_eta S, one 3 × 2 product instead of a
-        general one); batched it is as fast as J S."""
+        configuration this keeps XLA's program small (no n_q × n_eta S: one product with the platform's small
+        S_p); batched it is as fast as J S."""
         n_p = self.platform.n_q
         return jnp.concatenate([j[:, :n_p] @ self.platform.S(q[:n_p]), j[:, n_p:]], axis=1)
 
