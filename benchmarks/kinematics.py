@@ -137,6 +137,13 @@ def batched(robot, q):
 def single(robot, q):
     out = None
     for qi in q:
+        out = mp.jacobian_and_measures(robot, qi)
+    return out
+
+
+def single_two_calls(robot, q):
+    out = None
+    for qi in q:
         jbar = mp.system_jacobian(robot, qi)
         out = (jbar, mp.measures(jbar))
     return out
@@ -189,7 +196,9 @@ def main(argv=None) -> None:
     straightforward(robot, q_device)
     t_reference = best_time(lambda: straightforward(robot, q_device), 3)
     single(robot, q[:2])
-    t_single = best_time(lambda: single(robot, q[: args.single]), 2)
+    t_single = best_time(lambda: single(robot, q[: args.single]), 3)
+    single_two_calls(robot, q[:2])
+    t_two_calls = best_time(lambda: single_two_calls(robot, q[: args.single]), 3)
     nb = min(args.baseline, args.n)
     t0 = time.perf_counter()
     jbar_np, meas_np = numpy_baseline(q[:nb])
@@ -202,7 +211,8 @@ def main(argv=None) -> None:
         (f"batched public API (system_jacobian + measures), {batching.WORKERS} threads", args.n, t_batch),
         ("the same on one thread (batching.WORKERS = 1)", args.n, t_one_core),
         ("reference: jit + vmap with jnp.linalg.svd (≈ 9 µs idle)", args.n, t_reference),
-        ("single configuration, public API", args.single, t_single),
+        ("single configuration, one call (jacobian_and_measures)", args.single, t_single),
+        ("single configuration, system_jacobian then measures", args.single, t_two_calls),
         ("NumPy per call (J̄ + np.linalg.svd)", nb, t_numpy),
     ]
     print(

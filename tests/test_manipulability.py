@@ -111,6 +111,46 @@ def test_gradient_is_batched():
     np.testing.assert_allclose(batched[:, :3], 0.0, atol=1e-10)
 
 
+@pytest.mark.parametrize("which", mp.WHICH)
+def test_jacobian_and_measures_is_the_jacobian_then_its_measures(which):
+    """One compiled call gives what the two public calls give, batched and for one configuration (where the
+    measures come from LAPACK instead of the batched Jacobi solver), checked against NumPy's SVD."""
+    robot = robots.manus_platform()
+    q = RNG.uniform(-1.0, 1.0, (5, robot.n_q))
+    jac, meas = mp.jacobian_and_measures(robot, q, which=which)
+    want = (
+        mp.arm_jacobian(robot, q)
+        if which == "arm"
+        else mp.system_jacobian(robot, q, normalized=which == "system_normalized")
+    )
+    np.testing.assert_allclose(jac, want, rtol=1e-13, atol=1e-15)
+    reference = _reference(np.asarray(want))
+    for i in range(len(q)):
+        jac_i, meas_i = mp.jacobian_and_measures(robot, q[i], which=which)
+        np.testing.assert_allclose(jac_i, want[i], rtol=1e-13, atol=1e-15)
+        for key in mp.MEASURES:
+            np.testing.assert_allclose(meas_i[key], reference[key][i], rtol=1e-9)
+    for key in mp.MEASURES:
+        assert meas[key].shape == (5,)
+        np.testing.assert_allclose(meas[key], reference[key], rtol=1e-9)
+
+
+def test_jacobian_and_measures_restricted_and_bad_input():
+    robot = robots.bayle_rrp()
+    q = RNG.uniform(-1.0, 1.0, (4, robot.n_q))
+    q[:, 4] = RNG.uniform(0.3, 1.2, 4)
+    jbar, meas = mp.jacobian_and_measures(robot, q, rank="auto")
+    s = np.linalg.svd(np.asarray(jbar), compute_uv=False)
+    np.testing.assert_allclose(meas["yoshikawa"], np.prod(s[:, :4], axis=1), rtol=1e-8)
+    with pytest.raises(InputError, match="which"):
+        mp.jacobian_and_measures(robot, q, which="base")
+    with pytest.raises(InputError, match="rank"):
+        mp.jacobian_and_measures(robot, q, rank=9)
+    car = robots.tchon_car_rtr()
+    with pytest.raises(ModelError, match="velocity limits"):
+        mp.jacobian_and_measures(car, np.zeros(car.n_q), which="system_normalized")
+
+
 def test_restricted_measures_where_velocity_degree_below_task_dimension():
     """bayle_rrp: J̄ is 5 × 5 of rank ≤ D̄ = 4 everywhere, so plain w = 0 and w5 = 1; restricted ones are not."""
     robot = robots.bayle_rrp()

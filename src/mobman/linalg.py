@@ -152,8 +152,15 @@ def _sweep_until_converged(sweep, init, diagonal: list[int], off: list[int], swe
 
 
 def _lapack(a: jnp.ndarray, vectors: bool):
-    w, u = jnp.linalg.eigh(a)
-    return w, (u if vectors else None)
+    """LAPACK's solver on the upper triangle of a, reordered to descending eigenvalues (LAPACK's are
+    ascending: no sorting network needed)."""
+    u, w = jax.lax.linalg.eigh(a, lower=False, symmetrize_input=False)
+    return w[..., ::-1], (u[..., ::-1] if vectors else None)
+
+
+def _jacobi_sorted(a: jnp.ndarray, vectors: bool, sweeps: int):
+    w, v = _jacobi(a, vectors, sweeps)
+    return (_sort_descending(w), None) if v is None else _sort_descending(w, v)
 
 
 @lru_cache(maxsize=None)
@@ -169,19 +176,21 @@ def _one_or_many(vectors: bool, sweeps: int):
     @solve.def_vmap
     def _batched(axis_size, in_batched, a):
         (batched,) = in_batched
-        out = _jacobi(a, vectors, sweeps) if batched else solve(a)
+        out = _jacobi_sorted(a, vectors, sweeps) if batched else solve(a)
         return out, jax.tree.map(lambda _: batched, out)
 
     return solve
 
 
-def _eigh_unsorted(a: jnp.ndarray, vectors: bool, sweeps: int):
+def _eigh_descending(a: jnp.ndarray, vectors: bool, sweeps: int):
+    """Eigenvalues (..., n), descending, and eigenvectors (..., n, n) or None, by the solver that suits the
+    shape and backend (module notes)."""
     n = a.shape[-1]
     if n > MAX_JACOBI_SIZE:
         return _lapack(a, vectors)
     if a.ndim == 2 and n > 2 and jax.default_backend() == "cpu":
         return _one_or_many(vectors, sweeps)(a)
-    return _jacobi(a, vectors, sweeps)
+    return _jacobi_sorted(a, vectors, sweeps)
 
 
 def _sort_descending(w: jnp.ndarray, v: jnp.ndarray | None = None):
@@ -207,8 +216,7 @@ def eigvalsh(a: jnp.ndarray, sweeps: int = SWEEPS) -> jnp.ndarray:
 
     Only the upper triangle of ``a`` is read. Differentiable (custom JVP dλ_i = v_iᵀ dA v_i).
     """
-    w, _ = _eigh_unsorted(a, False, sweeps)
-    return _sort_descending(w)
+    return _eigh_descending(a, False, sweeps)[0]
 
 
 @eigvalsh.defjvp
@@ -222,7 +230,7 @@ def _eigvalsh_jvp(sweeps, primals, tangents):
 
 def eigh(a: jnp.ndarray, sweeps: int = SWEEPS) -> tuple[jnp.ndarray, jnp.ndarray]:
     """Eigenvalues (..., n) in descending order and the matching unit eigenvectors (..., n, n) as columns."""
-    return _sort_descending(*_eigh_unsorted(a, True, sweeps))
+    return _eigh_descending(a, True, sweeps)
 
 
 def gram(a: jnp.ndarray) -> jnp.ndarray:

@@ -90,13 +90,15 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
     }
 
 
+def _measures_one(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
+    """The measures of one m × k Jacobian."""
+    return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)
+
+
 @across_cores({0: 2})
 @partial(jax.jit, static_argnums=(1,))
 def _measures(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
-    def one(jj):
-        return _measures_from_squares(_squared_singular_values(jj), jj.shape[-2], rank)
-
-    return blocked(one, core_ndims=2)(j)
+    return blocked(partial(_measures_one, rank=rank), core_ndims=2)(j)
 
 
 @jax.jit
@@ -222,16 +224,6 @@ def _resolve_rank(robot, task, which: str, rank: Rank) -> int | None:
 # --- whole-robot analysis -------------------------------------------------------------------------
 
 
-def _jacobian_of(robot, q, task, which: str) -> jnp.ndarray:
-    if which == "arm":
-        return arm_jacobian(robot, q, task)
-    if which == "system":
-        return system_jacobian(robot, q, task)
-    if which == "system_normalized":
-        return system_jacobian(robot, q, task, normalized=True)
-    raise InputError(f"which must be one of {', '.join(WHICH)}, got {which!r}")
-
-
 def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = None) -> dict:
     """The three measures of the arm (J_a), the system (J̄) and the normalised system (J̄_N), batched.
 
@@ -263,19 +255,56 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
     return out
 
 
+def _jacobian_one_of(robot: MobileManipulator, task: Task, which: str, q: jnp.ndarray) -> jnp.ndarray:
+    """J_a, J̄ or J̄_N of one configuration (the kernel of the batched functions below)."""
+    if which == "arm":
+        return K._jacobian_one(robot, task, q)[:, robot.arm_slice(0)]
+    j = K._reduced_one(robot, task, q)
+    return j * np.asarray(robot.velocity_limits) if which == "system_normalized" else j
+
+
+def _prepare(robot: MobileManipulator, which: str, task: Task | None, rank: Rank) -> tuple[Task, int | None]:
+    """Check ``which`` and the rank; returns the task and the resolved rank (None: plain measures)."""
+    if which not in WHICH:
+        raise InputError(f"which must be one of {', '.join(WHICH)}, got {which!r}")
+    if which == "system_normalized":
+        _limits(robot)
+    task = K._task(robot, task)
+    r = _resolve_rank(robot, task, which, rank)
+    _check_rank(r, min(task.dim, robot.arms[0].n_joints if which == "arm" else robot.n_eta))
+    return task, None if r is None else int(r)
+
+
+@across_cores({1: 1})
+@partial(jax.jit, static_argnums=(0, 2, 3, 4))
+def _jacobian_and_measures(robot, q, task, which, rank):
+    def one(qq):
+        j = _jacobian_one_of(robot, task, which, qq)
+        return j, _measures_one(j, rank)
+
+    return blocked(one)(q)
+
+
+def jacobian_and_measures(
+    robot: MobileManipulator, q, which: str = "system", task: Task | None = None, rank: Rank = None
+) -> tuple[jnp.ndarray, dict[str, jnp.ndarray]]:
+    """The Jacobian ``which`` (``"arm"`` J_a, ``"system"`` J̄ = J S or ``"system_normalized"`` J̄_N) and its
+    three measures, in one compiled call (batched).
+
+    Returns ``(J, {"yoshikawa": w, "inverse_condition": w2, "eccentricity": w5})``, the same values as
+    :func:`system_jacobian` (or :func:`arm_jacobian`) followed by :func:`measures`, with ``rank`` as in
+    :func:`gradient`. For one configuration this is the fast path: one dispatch instead of two, and no
+    wait for the first call's result before the second starts.
+    """
+    task, r = _prepare(robot, which, task, rank)
+    return _jacobian_and_measures(robot, K._q(robot, q), task, which, r)
+
+
 @across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0, 2, 3, 4, 5))
 def _gradient(robot, q, task, which, measure, rank):
-    limits = np.asarray(robot.velocity_limits) if which == "system_normalized" else None
-
     def value(qq):
-        if which == "arm":
-            j = K._jacobian_one(robot, task, qq)[:, robot.arm_slice(0)]
-        else:
-            j = K._reduced_one(robot, task, qq)
-            if limits is not None:
-                j = j * limits
-        return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)[measure]
+        return _measures_one(_jacobian_one_of(robot, task, which, qq), rank)[measure]
 
     return blocked(jax.grad(value))(q)
 
@@ -294,15 +323,8 @@ def gradient(
     """
     if measure not in MEASURES:
         raise InputError(f"measure must be one of {', '.join(MEASURES)}, got {measure!r}")
-    if which not in WHICH:
-        raise InputError(f"which must be one of {', '.join(WHICH)}, got {which!r}")
-    if which == "system_normalized":
-        _limits(robot)
-    task = K._task(robot, task)
-    r = _resolve_rank(robot, task, which, rank)
-    p = min(task.dim, robot.arms[0].n_joints if which == "arm" else robot.n_eta)
-    _check_rank(r, p)
-    return _gradient(robot, K._q(robot, q), task, which, measure, None if r is None else int(r))
+    task, r = _prepare(robot, which, task, rank)
+    return _gradient(robot, K._q(robot, q), task, which, measure, r)
 
 
 __all__ = [
@@ -314,6 +336,7 @@ __all__ = [
     "ellipsoid",
     "gradient",
     "inverse_condition",
+    "jacobian_and_measures",
     "measures",
     "singular_values",
     "system_jacobian",

