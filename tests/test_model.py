@@ -333,6 +333,43 @@ def test_joint_local_pose_is_origin_then_motion(kind):
         np.testing.assert_allclose(p[index], expected[:3, 3], atol=1e-14)
 
 
+def test_unstack_components_and_their_one_concatenation_gradient():
+    """spatial.unstack gives a[..., i]; reverse mode turns it into one concatenation, where slices a[..., i]
+    become one padded array each (kernels of their own in XLA's CPU runtime)."""
+    from mobman.model.spatial import cross, unstack
+
+    a = np.random.default_rng(5).normal(size=(4, 3))
+    for i, part in enumerate(unstack(jnp.asarray(a))):
+        np.testing.assert_array_equal(part, a[:, i])
+
+    def loss(x):
+        return jnp.sum(cross(x, x[::-1]) ** 2)
+
+    hlo = jax.jit(jax.grad(loss)).lower(jnp.asarray(a)).as_text()
+    assert "stablehlo.pad" not in hlo
+    h = 1e-6
+    fd = np.zeros_like(a)
+    for index in np.ndindex(a.shape):
+        e = np.zeros_like(a)
+        e[index] = h
+        fd[index] = (loss(a + e) - loss(a - e)) / (2 * h)
+    np.testing.assert_allclose(jax.grad(loss)(jnp.asarray(a)), fd, rtol=1e-6, atol=1e-8)
+
+
+@pytest.mark.parametrize("task", [Position("xz"), EulerAngles("ZYX", select=(2, 0))])
+def test_task_rows_are_selected_without_a_gather(task):
+    """Rows chosen by a task are static slices of one split (a gather is a kernel of its own, and a scatter in
+    reverse mode); the values are the chosen rows of the full task."""
+    robot = robots.manus_platform()
+    full = Position("xyz") if isinstance(task, Position) else EulerAngles("ZYX")
+    rows = [0, 2] if isinstance(task, Position) else [2, 0]
+    q = _random_q(robot, 3)
+    np.testing.assert_array_equal(K.jacobian(robot, q, task), np.asarray(K.jacobian(robot, q, full))[:, rows])
+    np.testing.assert_array_equal(K.forward(robot, q, task), np.asarray(K.forward(robot, q, full))[:, rows])
+    hlo = jax.jit(jax.grad(lambda x: jnp.sum(K._jacobian_one(robot, task, x)))).lower(q[0]).as_text()
+    assert "gather" not in hlo and "scatter" not in hlo
+
+
 def test_modified_dh_matches_textbook_product():
     arm = Arm.from_modified_dh(PANDA_MDH)
     q = np.random.default_rng(1).uniform(-2, 2, 7)

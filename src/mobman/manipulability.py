@@ -25,7 +25,7 @@ values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, ge
 
 from __future__ import annotations
 
-from functools import lru_cache, partial
+from functools import lru_cache, partial, reduce
 from typing import Literal
 
 import jax
@@ -36,6 +36,7 @@ from mobman import kinematics as K
 from mobman import linalg
 from mobman.batching import across_cores, blocked
 from mobman.errors import InputError, ModelError
+from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
 
@@ -81,10 +82,11 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
         zero = jnp.zeros(lam.shape[:-1], lam.dtype)
         return {"yoshikawa": zero, "inverse_condition": zero, "eccentricity": zero + 1.0}
     r = p if rank is None else rank
-    top, low = lam[..., 0], lam[..., r - 1]
+    parts = spatial.unstack(lam)  # one split (one concatenation in reverse mode), not a slice per use
+    top, low = parts[0], parts[r - 1]
     ratio = jnp.clip(_safe_ratio(low, top), 0.0, 1.0)
     return {
-        "yoshikawa": _safe_sqrt(jnp.prod(lam[..., :r], axis=-1)),
+        "yoshikawa": _safe_sqrt(reduce(jnp.multiply, parts[:r])),
         "inverse_condition": _safe_sqrt(ratio),
         "eccentricity": jnp.where(top > 0, _safe_sqrt(1.0 - ratio), 1.0),
     }

@@ -180,8 +180,8 @@ class Arm:
         else:
             pose = base
         rs, ps = [], []
-        for i, joint in enumerate(self.joints):
-            pose = spatial.compose(pose, joint.local_pose(motion[..., i]))
+        for joint, value in zip(self.joints, spatial.unstack(motion)):
+            pose = spatial.compose(pose, joint.local_pose(value))
             rs.append(pose[0])
             ps.append(pose[1])
         pose = spatial.compose(pose, spatial.fixed_pose(self.tool))

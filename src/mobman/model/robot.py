@@ -239,7 +239,8 @@ class MobileManipulator:
         configuration this keeps XLA's program small (no n_q × n_eta S: one product with the platform's small
         S_p); batched it is as fast as J S."""
         n_p = self.platform.n_q
-        return jnp.concatenate([j[:, :n_p] @ self.platform.S(q[:n_p]), j[:, n_p:]], axis=1)
+        j_p, j_a = jax.lax.split(j, (n_p, j.shape[1] - n_p), axis=1)
+        return jnp.concatenate([j_p @ self.platform.S(q[:n_p]), j_a], axis=1)
 
     def constraints(self, q: jnp.ndarray) -> jnp.ndarray:
         """G(q) = [G_p(q_p) 0] with G(q) q̇ = 0 (Bayle §4.2), shape (n_q − n_eta, n_q)."""
@@ -248,12 +249,16 @@ class MobileManipulator:
 
     def frames(self, q: jnp.ndarray) -> Frames:
         """World poses of the platform, mounts and every arm frame at one configuration."""
-        platform = spatial.planar_pose(q[0], q[1], q[2])
+        # one split of q (not a slice per use): its reverse-mode transpose is one concatenation
+        n_p = self.platform.n_q
+        sizes = (1, 1, 1, n_p - 3) + tuple(a.n_joints for a in self.arms)
+        x, y, theta, _, *arm_qs = jax.lax.split(q, sizes, axis=-1)
+        platform = spatial.planar_pose(x[..., 0], y[..., 0], theta[..., 0])
         mounts, links = [], []
-        for i, (arm, mount) in enumerate(zip(self.arms, self.mounts)):
+        for arm, mount, q_a in zip(self.arms, self.mounts, arm_qs):
             mount_pose = spatial.compose(platform, spatial.fixed_pose(mount.transform))
             mounts.append(mount_pose)
-            links.append(arm.link_poses(q[self.arm_slice(i)], base=mount_pose))
+            links.append(arm.link_poses(q_a, base=mount_pose))
         return Frames(platform, tuple(mounts), tuple(links))
 
     def point_jacobian(self, q: jnp.ndarray, frames: Frames, point: jnp.ndarray, arm: int | None, upto: int):
@@ -282,7 +287,7 @@ class MobileManipulator:
                 j_ang.append(jnp.zeros((3, n), dtype))
                 continue
             rs, ps = frames.links[i]
-            axes = jnp.stack([spatial.matvec(rs[j], np.asarray(jt.axis)) for j, jt in enumerate(a.joints)])
+            axes = spatial.matvec(rs[:n], np.array([jt.axis for jt in a.joints]))  # world joint axes (n, 3)
             revolute = np.array([jt.kind == "revolute" for jt in a.joints])
             moves = np.arange(n) <= upto
             lin_cols = jnp.where(revolute[:, None], spatial.cross(axes, point - ps[:n]), axes)

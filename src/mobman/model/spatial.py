@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -79,16 +80,17 @@ def matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:
     return jnp.sum(a * v[..., None, :], axis=-1)
 
 
+def unstack(a: jnp.ndarray) -> list[jnp.ndarray]:
+    """The components of a along its last axis, as one ``lax.split``: its reverse-mode transpose is one
+    concatenation, where separate slices ``a[..., i]`` transpose to one padded array each, summed."""
+    return [x[..., 0] for x in jax.lax.split(a, (1,) * a.shape[-1], axis=-1)]
+
+
 def cross(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     """Cross product along the last axis, written out (jnp.cross is slower under vmap on CPU)."""
-    return jnp.stack(
-        [
-            a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-            a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-            a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-        ],
-        axis=-1,
-    )
+    a0, a1, a2 = unstack(a)
+    b0, b1, b2 = unstack(b)
+    return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
 def compose(pose_a: tuple[jnp.ndarray, jnp.ndarray], pose_b: tuple[jnp.ndarray, jnp.ndarray]):

@@ -56,11 +56,13 @@ def _components(components: str) -> tuple[int, ...]:
 
 
 def _rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
-    """x[indices] for static row indices, as static slices: indexing with an integer array compiles to a
-    gather, a kernel of its own (and a scatter in reverse-mode derivatives)."""
+    """x[indices] for static row indices, from one split of x: indexing with an integer array compiles to a
+    gather, a kernel of its own (and a scatter in reverse-mode derivatives), and a slice per row transposes to
+    a padded array per row."""
     if indices == tuple(range(x.shape[0])):
         return x
-    return jnp.stack([x[i] for i in indices])
+    rows = jax.lax.split(x, (1,) * x.shape[0], axis=0)
+    return jnp.concatenate([rows[i] for i in indices], axis=0)
 
 
 def _check_arm(robot: "MobileManipulator", arm: int, link: int | None = None) -> None:
