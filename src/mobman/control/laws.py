@@ -49,6 +49,7 @@ from mobman.control._tree import pytree
 from mobman.control.criteria import Criterion
 from mobman.errors import ModelError
 from mobman.linalg import eigvalsh
+from mobman.model.spatial import matmul, matvec
 from mobman.model.task import Task
 
 
@@ -92,10 +93,10 @@ def _small_inverse(a: jnp.ndarray) -> jnp.ndarray:
 def damped_inverse(a: jnp.ndarray, damping: float, threshold: float):
     """Right inverse aᵀ (a aᵀ + λ² I)⁻¹ of a (m × k, m ≤ k) with the variable damping λ² described in the
     module docstring. Returns (inverse, λ², σ_min)."""
-    gram = a @ a.T
+    gram = matmul(a, a.T)
     sigma_min = jnp.sqrt(jnp.maximum(eigvalsh(gram)[-1], 0.0))
     lam2 = damping**2 * (1.0 - jnp.minimum(sigma_min / threshold, 1.0) ** 2)
-    inverse = a.T @ _small_inverse(gram + lam2 * jnp.eye(a.shape[0], dtype=a.dtype))
+    inverse = matmul(a.T, _small_inverse(gram + lam2 * jnp.eye(a.shape[0], dtype=a.dtype)))
     return inverse, lam2, sigma_min
 
 
@@ -172,8 +173,8 @@ class BaylePseudoInverse(_Law):
         return apply_gain(self.W, e, "W")
 
     def _self_motion(self, projector, s_scaled, grad):
-        h = s_scaled @ projector  # H = S R (I − J⁺J), n_q × δ
-        return -self.k * (h.T @ grad)  # (I − J⁺J) g = g for the exact projector
+        h = matmul(s_scaled, projector)  # H = S R (I − J⁺J), n_q × δ
+        return -self.k * matvec(h.T, grad)  # (I − J⁺J) g = g for the exact projector
 
     def __call__(self, robot, task: Task, q, t, xi_star, xi_star_dot):
         return _resolve(self, robot, task, q, xi_star, xi_star_dot)
@@ -201,7 +202,7 @@ class NaitChabane(_Law):
         return jnp.zeros_like(e) if self.feedback is None else apply_gain(self.feedback, e, "feedback")
 
     def _self_motion(self, projector, s_scaled, grad):
-        return -projector @ apply_gain(self.W, s_scaled.T @ grad, "W")
+        return -matvec(projector, apply_gain(self.W, matvec(s_scaled.T, grad), "W"))
 
     def __call__(self, robot, task: Task, q, t, xi_star, xi_star_dot):
         return _resolve(self, robot, task, q, xi_star, xi_star_dot)
@@ -212,17 +213,16 @@ def _resolve(law, robot, task: Task, q, xi_star, xi_star_dot):
     task = robot.task if task is None else task
     frames = robot.frames(q)
     xi = task.value(robot, q, frames)
-    s = robot.S(q)
     scale = law._scale(robot)
-    jt = (task.jacobian(robot, q, frames) @ s) * scale
+    jt = robot.apply_S(task.jacobian(robot, q, frames), q) * scale
     e = xi_star - xi
     inverse, lam2, sigma_min = damped_inverse(jt, law.damping, law.damping_threshold)
-    eta = inverse @ (xi_star_dot + law._feedback(e))
+    eta = matvec(inverse, xi_star_dot + law._feedback(e))
     info = {"damping": lam2, "sigma_min": sigma_min}
     if law.criterion is not None:
         value, grad = jax.value_and_grad(lambda qq: law.criterion(robot, qq, task, xi_star))(q)
-        projector = jnp.eye(robot.n_eta, dtype=jt.dtype) - inverse @ jt
-        eta = eta + law._self_motion(projector, s * scale, grad)
+        projector = jnp.eye(robot.n_eta, dtype=jt.dtype) - matmul(inverse, jt)
+        eta = eta + law._self_motion(projector, robot.S(q) * scale, grad)
         info["P"] = value
     return law._finish(robot, eta * scale, info)
 
