@@ -92,7 +92,10 @@ def _small_inverse(a: jnp.ndarray) -> jnp.ndarray:
 
 def damped_inverse(a: jnp.ndarray, damping: float, threshold: float):
     """Right inverse aᵀ (a aᵀ + λ² I)⁻¹ of a (m × k, m ≤ k) with the variable damping λ² described in the
-    module docstring. Returns (inverse, λ², σ_min)."""
+    module docstring. Returns (inverse, λ², σ_min).
+
+    The laws' small products are broadcast sums (``spatial.matmul``), which XLA fuses with their neighbours;
+    a library matrix product is a kernel of its own, and a law runs once per simulation step."""
     gram = matmul(a, a.T)
     sigma_min = jnp.sqrt(jnp.maximum(eigvalsh(gram)[-1], 0.0))
     lam2 = damping**2 * (1.0 - jnp.minimum(sigma_min / threshold, 1.0) ** 2)
@@ -257,14 +260,14 @@ class AugmentedJacobian(_Law):
         frames = robot.frames(q)
         xi = jnp.concatenate([task.value(robot, q, frames), self.extra.value(robot, q, frames)])
         jac = jnp.concatenate([task.jacobian(robot, q, frames), self.extra.jacobian(robot, q, frames)])
-        s = robot.S(q)
         scale = self._scale(robot)
         e = xi_star - xi
         rhs = xi_star_dot if self.feedback is None else xi_star_dot + apply_gain(self.feedback, e, "feedback")
-        inverse, lam2, sigma_min = damped_inverse((jac @ s) * scale, self.damping, self.damping_threshold)
+        jt = robot.apply_S(jac, q) * scale
+        inverse, lam2, sigma_min = damped_inverse(jt, self.damping, self.damping_threshold)
         det = jnp.abs(jnp.linalg.det(jnp.concatenate([robot.constraints(q), jac])))
         info = {"damping": lam2, "sigma_min": sigma_min, "det": det}
-        return self._finish(robot, (inverse @ rhs) * scale, info)
+        return self._finish(robot, matvec(inverse, rhs) * scale, info)
 
 
 Law = BaylePseudoInverse | NaitChabane | AugmentedJacobian
