@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 from typing import Literal, Sequence
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -176,18 +177,27 @@ class Arm:
         motion = self.motion_variables(q_a)
         batch = q_a.shape[:-1]
         if base is None:
-            pose = (jnp.broadcast_to(np.eye(3), batch + (3, 3)), jnp.zeros(batch + (3,)))
-        else:
-            pose = base
-        rs, ps = [], []
-        for joint, value in zip(self.joints, spatial.unstack(motion)):
-            pose = spatial.compose(pose, joint.local_pose(value))
-            rs.append(pose[0])
-            ps.append(pose[1])
-        pose = spatial.compose(pose, spatial.fixed_pose(self.tool))
-        rs.append(pose[0])
-        ps.append(pose[1])
-        return jnp.stack(rs, axis=-3), jnp.stack(ps, axis=-2)
+            base = (jnp.broadcast_to(np.eye(3), batch + (3, 3)), jnp.zeros(batch + (3,)))
+        # rotations: one product per frame, R_k = R_{k−1} R_k,local
+        r, rs, offsets = base[0], [], []
+        local = [j.local_pose(v) for j, v in zip(self.joints, spatial.unstack(motion))]
+        for r_local, p_local in local + [spatial.fixed_pose(self.tool)]:
+            offsets.append(jnp.broadcast_to(p_local, batch + (3,)))
+            r = spatial.matmul(r, r_local)
+            rs.append(r)
+        rs = jnp.stack(rs, axis=-3)
+        # positions: p_k = p_base + Σ_{i ≤ k} R_{i−1} t_i. Every offset t_i is turned at once, as a sum over the
+        # columns of the parent rotations (written as a reduction, XLA hands it to a library call, slower
+        # batched), then the running sums are additions that fuse into one kernel: for one configuration two
+        # kernels for all the positions instead of one per frame
+        parents = jnp.concatenate([base[0][..., None, :, :], rs[..., :-1, :, :]], axis=-3)
+        components = spatial.unstack(jnp.stack(offsets, axis=-2))
+        steps = sum(column * t[..., None] for column, t in zip(spatial.unstack(parents), components))
+        p, ps = base[1], []
+        for step in jax.lax.split(steps, (1,) * len(offsets), axis=-2):
+            p = p + step[..., 0, :]
+            ps.append(p)
+        return rs, jnp.stack(ps, axis=-2)
 
     # --- constructors --------------------------------------------------------------------------------
 
