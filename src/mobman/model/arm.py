@@ -13,7 +13,6 @@ import math
 from dataclasses import dataclass
 from typing import Literal, Sequence
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -194,8 +193,8 @@ class Arm:
         components = spatial.unstack(jnp.stack(offsets, axis=-2))
         steps = sum(column * t[..., None] for column, t in zip(spatial.unstack(parents), components))
         p, ps = base[1], []
-        for step in jax.lax.split(steps, (1,) * len(offsets), axis=-2):
-            p = p + step[..., 0, :]
+        for step in spatial.unstack(steps, axis=-2):
+            p = p + step
             ps.append(p)
         return rs, jnp.stack(ps, axis=-2)
 

@@ -80,10 +80,10 @@ def matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:
     return jnp.sum(a * v[..., None, :], axis=-1)
 
 
-def unstack(a: jnp.ndarray) -> list[jnp.ndarray]:
-    """The components of a along its last axis, as one ``lax.split``: its reverse-mode transpose is one
+def unstack(a: jnp.ndarray, axis: int = -1) -> list[jnp.ndarray]:
+    """The components of a along ``axis``, as one ``lax.split``: its reverse-mode transpose is one
     concatenation, where separate slices ``a[..., i]`` transpose to one padded array each, summed."""
-    return [x[..., 0] for x in jax.lax.split(a, (1,) * a.shape[-1], axis=-1)]
+    return [jnp.squeeze(x, axis) for x in jax.lax.split(a, (1,) * a.shape[axis], axis=axis)]
 
 
 def cross(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:

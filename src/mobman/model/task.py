@@ -61,8 +61,8 @@ def _rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
     a padded array per row."""
     if indices == tuple(range(x.shape[0])):
         return x
-    rows = jax.lax.split(x, (1,) * x.shape[0], axis=0)
-    return jnp.concatenate([rows[i] for i in indices], axis=0)
+    rows = spatial.unstack(x, axis=0)
+    return jnp.stack([rows[i] for i in indices])
 
 
 def _check_arm(robot: "MobileManipulator", arm: int, link: int | None = None) -> None:
