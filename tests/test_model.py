@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import jax
 import jax.numpy as jnp
@@ -28,6 +29,7 @@ from mobman.model import (
     PlanarAngle,
     Position,
     robots,
+    spatial,
     stack,
 )
 from mobman.model.spatial import euler_angles, euler_matrix
@@ -306,20 +308,23 @@ def _dh_matrix(theta, d, a, alpha):
 
 
 @pytest.mark.parametrize("kind", ["revolute", "prismatic"])
-def test_joint_local_pose_is_origin_then_motion(kind):
-    """Joint.local_pose (Rodrigues written elementwise, constant factors folded with the origin) equals the
-    origin transform times the motion built independently (SciPy's rotation vector), batched."""
+def test_joint_pose_after_is_parent_then_origin_then_motion(kind):
+    """Joint.pose_after (Rodrigues written with the constant factors as scalars) equals the parent pose times
+    the origin transform times the motion built independently (SciPy's rotation vector), batched."""
     from scipy.spatial.transform import Rotation
 
     rng = np.random.default_rng(3)
     axis = rng.normal(size=3)
     axis /= np.linalg.norm(axis)
-    origin = np.eye(4)
+    origin, parent = np.eye(4), np.eye(4)
     origin[:3, :3] = Rotation.from_rotvec(rng.normal(size=3)).as_matrix()
     origin[:3, 3] = rng.normal(size=3)
+    parent[:3, :3] = Rotation.from_rotvec(rng.normal(size=3)).as_matrix()
+    parent[:3, 3] = rng.normal(size=3)
     joint = Joint(kind, tuple(axis), tuple(origin.ravel()), offset=0.3)
     q = rng.uniform(-3, 3, size=(4, 2))
-    rot, p = joint.local_pose(jnp.asarray(q))
+    base = (jnp.broadcast_to(parent[:3, :3], (4, 2, 3, 3)), jnp.broadcast_to(parent[:3, 3], (4, 2, 3)))
+    rot, p = joint.pose_after(base, jnp.asarray(q))
     assert rot.shape == (4, 2, 3, 3) and p.shape == (4, 2, 3)
     for index in np.ndindex(q.shape):
         motion = np.eye(4)
@@ -328,7 +333,7 @@ def test_joint_local_pose_is_origin_then_motion(kind):
             motion[:3, :3] = Rotation.from_rotvec(value * axis).as_matrix()
         else:
             motion[:3, 3] = value * axis
-        expected = origin @ motion
+        expected = parent @ origin @ motion
         np.testing.assert_allclose(rot[index], expected[:3, :3], atol=1e-14)
         np.testing.assert_allclose(p[index], expected[:3, 3], atol=1e-14)
 
@@ -354,6 +359,42 @@ def test_unstack_components_and_their_one_concatenation_gradient():
         e[index] = h
         fd[index] = (loss(a + e) - loss(a - e)) / (2 * h)
     np.testing.assert_allclose(jax.grad(loss)(jnp.asarray(a)), fd, rtol=1e-6, atol=1e-8)
+
+
+def test_products_by_constants_written_over_their_nonzero_entries():
+    """spatial.combine / matvec_constant / matmul_constant / constant_combination / compose_fixed_pose equal
+    NumPy's products (zeros, ±1 and general entries; batched), and an all-zero combination is None."""
+    rng = np.random.default_rng(11)
+    a = rng.normal(size=(5, 3, 3))
+    c = np.array([[0.0, 1.0, -2.5], [-1.0, 0.0, 0.0], [0.0, 0.25, 0.0]])
+    v = np.array([0.0, -1.0, 0.7])
+    np.testing.assert_allclose(spatial.matmul_constant(jnp.asarray(a), c), a @ c, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(spatial.matvec_constant(jnp.asarray(a), v), a @ v, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(spatial.matvec_constant(jnp.asarray(a), np.zeros(3)), np.zeros((5, 3)))
+    assert spatial.combine([jnp.ones(2)] * 3, [0.0, 0.0, 0.0]) is None
+    f = rng.normal(size=(3, 5))
+    expected = sum(f[n][:, None, None] * m for n, m in enumerate((c, c.T, np.eye(3))))
+    combined = spatial.constant_combination((c, c.T, np.eye(3)), tuple(jnp.asarray(x) for x in f))
+    np.testing.assert_allclose(combined, expected, rtol=0, atol=1e-15)
+    t = spatial.transform(spatial.rot_x(math.pi / 2), (0.1, 0.0, -0.3))
+    r, p = spatial.compose_fixed_pose((jnp.asarray(a), jnp.asarray(a[:, 0])), t)
+    m = spatial.as_matrix(t)
+    np.testing.assert_allclose(r, a @ m[:3, :3], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(p, a @ m[:3, 3] + a[:, 0], rtol=0, atol=1e-15)
+
+
+def test_compiled_chain_holds_no_constant_arrays():
+    """A DH arm's fixed transforms enter the compiled chain as scalars: XLA's CPU runtime sets every
+    constant array of a program up again at each call (a fifth of a one-configuration call with the 13
+    constant matrices and vectors of the Panda's chain). What may remain is a row of a joint's rotation in
+    its parent frame that does not depend on q, which XLA folds into a constant (here the first joint's)."""
+    arm = Arm.from_modified_dh(PANDA_MDH, tool=spatial.transform(None, (0.0, 0.0, 0.107)))
+    q = jnp.asarray(np.random.default_rng(2).uniform(-2, 2, 7))
+    base = (jnp.eye(3) + q[:3, None] * q[None, 3:6], q[:3])  # a base pose known only at run time
+    compiled = jax.jit(lambda x, b: arm.link_poses(x, base=b)).lower(q, base).compile().as_text()
+    entry = compiled[compiled.index("ENTRY") :]  # the program's buffers (constants in kernels are literals)
+    arrays = [c for c in re.findall(r"= \w+\[([\d,]*)\]\S* constant\(", entry) if c]
+    assert arrays == ["1,3"], arrays
 
 
 @pytest.mark.parametrize("task", [Position("xz"), EulerAngles("ZYX", select=(2, 0))])

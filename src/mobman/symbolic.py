@@ -124,7 +124,7 @@ def _compose(a: Pose, b: Pose) -> Pose:
 
 
 def _rotation(axis: Sequence[float], angle: sp.Expr) -> sp.Matrix:
-    """Rodrigues' formula I + sin(a) K + (1 − cos a) K², as in :meth:`Joint.local_pose`."""
+    """Rodrigues' formula I + sin(a) K + (1 − cos a) K², as in :meth:`Joint.pose_after`."""
     x, y, z = (exact(v) for v in axis)
     k = sp.Matrix([[0, -z, y], [z, 0, -x], [-y, x, 0]])
     return sp.eye(3) + sp.sin(angle) * k + (1 - sp.cos(angle)) * k * k

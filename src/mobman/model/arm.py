@@ -85,25 +85,29 @@ class Joint:
         if self.velocity_max is not None and not (self.velocity_max > 0):
             raise ModelError(f"Joint {self.name!r}: velocity_max must be > 0, got {self.velocity_max!r}")
 
-    def local_pose(self, q: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
-        """(R, p) of the joint frame in the previous frame: ``origin`` then the motion by q + offset (batched).
+    def pose_after(self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray):
+        """World pose (R, p) of the joint frame, from its parent frame's world pose and the joint's motion
+        variable q (batched): ``origin`` (R_o, p_o) then the motion by v = q + offset.
 
-        Written elementwise in q with constant NumPy factors, so that under XLA it fuses into the product
-        that composes it with the chain (half the chain's kernels of composing origin and motion apart).
-        Revolute, with the origin (R_o, p_o) and K = [axis]×: origin ∘ Rot(axis, v) =
-        (R_o + sin v · R_o K + (1 − cos v) · R_o K², p_o) (Rodrigues). Prismatic: (R_o, p_o + v · R_o axis).
+        Revolute, with K = [axis]×: R = R_parent (R_o + sin v · R_o K + (1 − cos v) · R_o K²) (Rodrigues),
+        p = p_parent + R_parent p_o. Prismatic: R = R_parent R_o, p = p_parent + R_parent (p_o + v R_o axis).
+        The constant factors enter as Python scalars (:func:`spatial.combine`): a DH origin's zeros and ±1
+        cost nothing, and the compiled chain holds no constant arrays (XLA's CPU runtime sets every constant
+        array of a program up again at each call). The product with R_parent stays a reduction, which XLA
+        computes once per frame rather than inside every later frame's kernel.
         """
+        r, p = parent
         r_o, p_o = spatial.fixed_pose(self.origin)
         value = jnp.asarray(q) + self.offset
+        p = p + spatial.matvec_constant(r, p_o)
         axis = np.asarray(self.axis)
-        if self.kind == "revolute":
-            k = spatial.skew(axis)
-            s = jnp.sin(value)[..., None, None]
-            c = jnp.cos(value)[..., None, None]
-            rot = r_o + s * (r_o @ k) + (1.0 - c) * (r_o @ k @ k)
-            return rot, jnp.broadcast_to(p_o, jnp.shape(value) + (3,))
-        rot = jnp.broadcast_to(r_o, jnp.shape(value) + (3, 3))
-        return rot, p_o + value[..., None] * (r_o @ axis)
+        if self.kind == "prismatic":
+            rotation = spatial.matmul_constant(r, r_o)
+            return rotation, p + value[..., None] * spatial.matvec_constant(rotation, axis)
+        k = spatial.skew(axis)
+        factors = (jnp.ones_like(value), jnp.sin(value), 1.0 - jnp.cos(value))
+        local = spatial.constant_combination((r_o, r_o @ k, r_o @ k @ k), factors)
+        return spatial.matmul(r, local), p
 
 
 @dataclass(frozen=True)
@@ -173,30 +177,18 @@ class Arm:
         frame of ``base`` (a pose (R, p) broadcastable to the batch; the arm base frame when None).
         """
         q_a = jnp.asarray(q_a)
-        motion = self.motion_variables(q_a)
         batch = q_a.shape[:-1]
         if base is None:
             base = (jnp.broadcast_to(np.eye(3), batch + (3, 3)), jnp.zeros(batch + (3,)))
-        # rotations: one product per frame, R_k = R_{k−1} R_k,local
-        r, rs, offsets = base[0], [], []
-        local = [j.local_pose(v) for j, v in zip(self.joints, spatial.unstack(motion))]
-        for r_local, p_local in local + [spatial.fixed_pose(self.tool)]:
-            offsets.append(jnp.broadcast_to(p_local, batch + (3,)))
-            r = spatial.matmul(r, r_local)
-            rs.append(r)
-        rs = jnp.stack(rs, axis=-3)
-        # positions: p_k = p_base + Σ_{i ≤ k} R_{i−1} t_i. Every offset t_i is turned at once, as a sum over the
-        # columns of the parent rotations (written as a reduction, XLA hands it to a library call, slower
-        # batched), then the running sums are additions that fuse into one kernel: for one configuration two
-        # kernels for all the positions instead of one per frame
-        parents = jnp.concatenate([base[0][..., None, :, :], rs[..., :-1, :, :]], axis=-3)
-        components = spatial.unstack(jnp.stack(offsets, axis=-2))
-        steps = sum(column * t[..., None] for column, t in zip(spatial.unstack(parents), components))
-        p, ps = base[1], []
-        for step in spatial.unstack(steps, axis=-2):
-            p = p + step
-            ps.append(p)
-        return rs, jnp.stack(ps, axis=-2)
+        pose, rs, ps = base, [], []
+        for joint, v in zip(self.joints, spatial.unstack(self.motion_variables(q_a))):
+            pose = joint.pose_after(pose, v)
+            rs.append(pose[0])
+            ps.append(pose[1])
+        r_tool, p_tool = spatial.compose_fixed_pose(pose, self.tool)
+        rs.append(r_tool)
+        ps.append(p_tool)
+        return jnp.stack(rs, axis=-3), jnp.stack(ps, axis=-2)
 
     # --- constructors --------------------------------------------------------------------------------
 

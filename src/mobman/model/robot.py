@@ -256,7 +256,7 @@ class MobileManipulator:
         platform = spatial.planar_pose(x[..., 0], y[..., 0], theta[..., 0])
         mounts, links = [], []
         for arm, mount, q_a in zip(self.arms, self.mounts, arm_qs):
-            mount_pose = spatial.compose(platform, spatial.fixed_pose(mount.transform))
+            mount_pose = spatial.compose_fixed_pose(platform, mount.transform)
             mounts.append(mount_pose)
             links.append(arm.link_poses(q_a, base=mount_pose))
         return Frames(platform, tuple(mounts), tuple(links))
@@ -287,7 +287,8 @@ class MobileManipulator:
                 j_ang.append(jnp.zeros((3, n), dtype))
                 continue
             rs, ps = frames.links[i]
-            axes = spatial.matvec(rs[:n], np.array([jt.axis for jt in a.joints]))  # world joint axes (n, 3)
+            frame_rs = spatial.unstack(rs, axis=0)
+            axes = jnp.stack([spatial.matvec_constant(r, jt.axis) for r, jt in zip(frame_rs, a.joints)])
             revolute = np.array([jt.kind == "revolute" for jt in a.joints])
             moves = np.arange(n) <= upto
             lin_cols = jnp.where(revolute[:, None], spatial.cross(axes, point - ps[:n]), axes)

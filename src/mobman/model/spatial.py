@@ -80,6 +80,38 @@ def matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:
     return jnp.sum(a * v[..., None, :], axis=-1)
 
 
+def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float]) -> jnp.ndarray | None:
+    """Σ_k w_k v_k for constant weights, written out over the nonzero ones (±1 without a product); None
+    when every weight is zero. With the weights as Python scalars XLA emits no constant array and no
+    product by zero: the structural zeros of a robot's fixed transforms cost nothing."""
+    terms = [
+        v if w == 1.0 else -v if w == -1.0 else float(w) * v for v, w in zip(vectors, weights) if w != 0.0
+    ]
+    return None if not terms else sum(terms[1:], terms[0])
+
+
+def matvec_constant(a: jnp.ndarray, v: np.ndarray) -> jnp.ndarray:
+    """a @ v for stacks of matrices a and a constant NumPy vector v (see :func:`combine`)."""
+    out = combine(unstack(a), np.asarray(v, dtype=float))
+    return jnp.zeros(a.shape[:-1], a.dtype) if out is None else out
+
+
+def matmul_constant(a: jnp.ndarray, c: np.ndarray) -> jnp.ndarray:
+    """a @ c for stacks of matrices a and a constant NumPy matrix c, column by column (see :func:`combine`)."""
+    columns = unstack(a)
+    out = [combine(columns, weights) for weights in np.asarray(c, dtype=float).T]
+    return jnp.stack([jnp.zeros_like(columns[0]) if o is None else o for o in out], axis=-1)
+
+
+def constant_combination(matrices: Sequence[np.ndarray], factors: Sequence[jnp.ndarray]) -> jnp.ndarray:
+    """Σ_n f_n M_n, shape (..., rows, cols), for constant NumPy matrices M_n and batched scalars f_n, entry
+    by entry with the entries of M_n as Python scalars (:func:`combine`): no constant array."""
+    stacked = np.stack([np.asarray(m, dtype=float) for m in matrices], axis=-1)
+    zero = jnp.zeros_like(factors[0])
+    rows = [[combine(factors, weights) for weights in row] for row in stacked]
+    return jnp.stack([jnp.stack([zero if e is None else e for e in row], -1) for row in rows], -2)
+
+
 def unstack(a: jnp.ndarray, axis: int = -1) -> list[jnp.ndarray]:
     """The components of a along ``axis``, as one ``lax.split``: its reverse-mode transpose is one
     concatenation, where separate slices ``a[..., i]`` transpose to one padded array each, summed."""
@@ -93,11 +125,12 @@ def cross(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
-def compose(pose_a: tuple[jnp.ndarray, jnp.ndarray], pose_b: tuple[jnp.ndarray, jnp.ndarray]):
-    """(R_a, p_a) ∘ (R_b, p_b) = (R_a R_b, R_a p_b + p_a)."""
-    ra, pa = pose_a
-    rb, pb = pose_b
-    return matmul(ra, rb), matvec(ra, pb) + pa
+def compose_fixed_pose(pose: tuple[jnp.ndarray, jnp.ndarray], t: Transform):
+    """(R, p) ∘ T for a stored fixed transform T = (R_t, p_t): (R R_t, R p_t + p), its constant entries as
+    scalars (:func:`combine`)."""
+    r, p = pose
+    r_t, p_t = fixed_pose(t)
+    return matmul_constant(r, r_t), p + matvec_constant(r, p_t)
 
 
 def fixed_pose(t: Transform) -> tuple[np.ndarray, np.ndarray]:

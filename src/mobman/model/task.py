@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING, Callable
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from mobman.errors import ModelError
 from mobman.model import spatial
@@ -99,7 +98,7 @@ class Position(Task):
 
     def _point(self, frames):
         rs, ps = frames.links[self.arm]
-        return ps[self.link] + spatial.matvec(rs[self.link], np.asarray(self.point))
+        return ps[self.link] + spatial.matvec_constant(rs[self.link], self.point)
 
     def value(self, robot, q, frames):
         return _rows(self._point(frames), _components(self.components))
