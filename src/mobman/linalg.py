@@ -34,6 +34,8 @@ from functools import lru_cache, partial, reduce
 import jax
 import jax.numpy as jnp
 
+from mobman.model.spatial import unstack
+
 SWEEPS = 7
 """Cyclic Jacobi sweeps: the number run for eigenvectors, the most run for eigenvalues (enough for double
 precision up to n = 8, see tests)."""
@@ -210,16 +212,39 @@ def _sort_descending(w: jnp.ndarray, v: jnp.ndarray | None = None):
     return w if v is None else (w, jnp.stack(cols, axis=-1))
 
 
-@partial(jax.custom_jvp, nondiff_argnums=(1,))
 def eigvalsh(a: jnp.ndarray, sweeps: int = SWEEPS) -> jnp.ndarray:
     """Eigenvalues of symmetric matrices a (..., n, n), in descending order, shape (..., n).
 
-    Only the upper triangle of ``a`` is read. Differentiable (custom JVP dλ_i = v_iᵀ dA v_i).
+    Only the upper triangle of ``a`` is read. Differentiable: 2 × 2 matrices in closed form
+    (:func:`_eigvalsh_2x2`), larger ones with the custom JVP dλ_i = v_iᵀ dA v_i.
     """
+    if a.shape[-1] == 2:
+        return _eigvalsh_2x2(a)
+    return _eigvalsh_iterative(a, sweeps)
+
+
+def _eigvalsh_2x2(a: jnp.ndarray) -> jnp.ndarray:
+    """λ = m ± r with m = (a₀₀ + a₁₁)/2, r = √(((a₀₀ − a₁₁)/2)² + a₀₁²), differentiated by autodiff. At a
+    repeated eigenvalue (r = 0) r is taken with derivative 0, so dλ = dm for both: one element of the
+    generalised gradient, as for the iterative path. Absolute error about eps · ‖A‖, as Jacobi's. For the
+    2 × 2 Gram matrix of a planar task (Bayle's and Korayem's laws) this is a few fused operations where
+    the Jacobi rotation, its sort and the eigenvector JVP were some twenty small kernels."""
+    top, bottom = unstack(a, axis=-2)
+    a00, a01 = unstack(top)
+    a11 = unstack(bottom)[1]
+    mean, half = 0.5 * (a00 + a11), 0.5 * (a00 - a11)
+    r2 = half * half + a01 * a01
+    positive = r2 > 0
+    r = jnp.where(positive, jnp.sqrt(jnp.where(positive, r2, 1.0)), 0.0)
+    return jnp.stack([mean + r, mean - r], axis=-1)
+
+
+@partial(jax.custom_jvp, nondiff_argnums=(1,))
+def _eigvalsh_iterative(a: jnp.ndarray, sweeps: int) -> jnp.ndarray:
     return _eigh_descending(a, False, sweeps)[0]
 
 
-@eigvalsh.defjvp
+@_eigvalsh_iterative.defjvp
 def _eigvalsh_jvp(sweeps, primals, tangents):
     (a,), (da,) = primals, tangents
     w, v = eigh(a, sweeps)
