@@ -23,6 +23,7 @@ import numpy as np
 from mobman import checks
 from mobman.control._tree import pytree
 from mobman.errors import ModelError
+from mobman.model.spatial import matvec
 
 TIMINGS = ("linear", "cubic", "quintic")
 
@@ -139,8 +140,9 @@ class Ellipse(Reference):
         a, b = self.semi_axes
         c, s = jnp.cos(self.rotation), jnp.sin(self.rotation)
         rot = jnp.stack([jnp.stack([c, -s]), jnp.stack([s, c])])
-        xy = jnp.asarray(self.center[:2]) + rot @ jnp.stack([a * jnp.cos(phi), b * jnp.sin(phi)])
-        vxy = rot @ jnp.stack([-a * rate * jnp.sin(phi), b * rate * jnp.cos(phi)])
+        # products as broadcast sums (spatial.matvec): XLA fuses them, a 2 × 2 matmul is a kernel of its own
+        xy = jnp.asarray(self.center[:2]) + matvec(rot, jnp.stack([a * jnp.cos(phi), b * jnp.sin(phi)]))
+        vxy = matvec(rot, jnp.stack([-a * rate * jnp.sin(phi), b * rate * jnp.cos(phi)]))
         extra = jnp.concatenate(
             [
                 jnp.asarray(self.center)[2:],

@@ -33,6 +33,7 @@ from typing import Callable, Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.flatten_util import ravel_pytree
 
 from mobman.batching import across_cores
 from mobman.control.laws import AugmentedJacobian
@@ -40,6 +41,7 @@ from mobman.control.references import Reference
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
+from mobman.model.spatial import matvec
 from mobman.model.task import Task, stack
 
 INTEGRATORS = ("auto", "lie", "rk4", "hold")
@@ -114,30 +116,40 @@ _LIE_OUT = (np.array([3.0, 2.0, 2.0, -1.0]) / 12.0, np.array([-1.0, 2.0, 2.0, 3.
 _RK4_OUT = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 
 
+def _weighted(w, rows):
+    """Σ_i w_i rows_i for the stage tables: a broadcast sum, which XLA fuses with its neighbours (a product
+    ``w @ rows`` is a matrix-product kernel of its own, several per stage)."""
+    return jnp.sum(w[:, None] * rows, axis=0)
+
+
 def _step(robot, integrator, control, q, t, h):
     """One integration step: (q_next, q_mid or None, η at t, the law's info at t)."""
     lie = integrator == "lie"
+    unravel = []  # set while the stage is traced: how to split a sample back into (η, info)
 
     def stage(carry, row):
         x, k = carry
         onehot, a, b, c = row
         if lie:
-            y = _unicycle_exp(_unicycle_exp(q, h * (a @ x)), h * (b @ x))
+            y = _unicycle_exp(_unicycle_exp(q, h * _weighted(a, x)), h * _weighted(b, x))
         else:
-            y = q + h * (a @ k)
+            y = q + h * _weighted(a, k)
         eta, info = control(y, t + c * h)
         x = x + onehot[:, None] * eta
-        return (x, k + onehot[:, None] * (robot.S(y) @ eta)), (eta, info)
+        # the stage's η and info as one vector: one output buffer written per stage instead of one per entry
+        sample, split = ravel_pytree((eta, info))
+        unravel[:] = [split]
+        return (x, k + onehot[:, None] * matvec(robot.S(y), eta)), sample
 
     zeros = (jnp.zeros((4, robot.n_eta), q.dtype), jnp.zeros((4, robot.n_q), q.dtype))
     table = (np.eye(4), _A if lie else _A_RK4, _B_LIE, _C)
-    (x, k), (etas, infos) = jax.lax.scan(stage, zeros, table)
+    (x, k), samples = jax.lax.scan(stage, zeros, table)
     if lie:
-        q_mid = _unicycle_exp(q, h * (_LIE_OUT[0] @ x))
-        q_next = _unicycle_exp(q_mid, h * (_LIE_OUT[1] @ x))
+        q_mid = _unicycle_exp(q, h * _weighted(_LIE_OUT[0], x))
+        q_next = _unicycle_exp(q_mid, h * _weighted(_LIE_OUT[1], x))
     else:
-        q_mid, q_next = None, q + h * (_RK4_OUT @ k)
-    return q_next, q_mid, etas[0], jax.tree.map(lambda a: a[0], infos)
+        q_mid, q_next = None, q + h * _weighted(_RK4_OUT, k)
+    return (q_next, q_mid, *unravel[0](samples[0]))
 
 
 def _hold(robot, q, eta, h):
@@ -146,7 +158,7 @@ def _hold(robot, q, eta, h):
         return _unicycle_exp(q, h * eta)
 
     def velocity(y):
-        return robot.S(y) @ eta
+        return matvec(robot.S(y), eta)
 
     k1 = velocity(q)
     k2 = velocity(q + 0.5 * h * k1)
