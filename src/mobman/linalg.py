@@ -13,9 +13,9 @@ LAPACK solves a 6 × 6 problem in one call. So on the CPU a single n × n matrix
 and the solver switches to Jacobi when it is vectorised (``jax.custom_batching.custom_vmap``: ``vmap``,
 ``blocked`` batches and explicit batch dimensions all get the Jacobi program). The eigenvectors of 2 × 2
 problems come from their single exact rotation, their eigenvalues from the closed form m ± r (a few fused
-operations with their gradient, for the Gram matrices of planar tasks); accelerators always use Jacobi. Measured on the 6 × 6 Gram matrix of a Panda J̄ (the
-measures of one configuration, compiled, alternated in one process): 23–44 µs through LAPACK against 68–88 µs
-through Jacobi, the spread being the machine's load.
+operations with their gradient, for the Gram matrices of planar tasks); accelerators always use Jacobi.
+Measured on the 6 × 6 Gram matrix of a Panda J̄ (the measures of one configuration, compiled, alternated in
+one process): 23–44 µs through LAPACK against 68–88 µs through Jacobi, the spread being the machine's load.
 
 Convergence of cyclic Jacobi is quadratic once the off-diagonal part is small; :data:`SWEEPS` sweeps reach
 machine precision for the matrices met in kinematics (n ≤ 8; tested against LAPACK in ``tests/test_linalg.py``).
@@ -228,8 +228,9 @@ def _eigvalsh_2x2(a: jnp.ndarray) -> jnp.ndarray:
     """λ = m ± r with m = (a₀₀ + a₁₁)/2, r = √(((a₀₀ − a₁₁)/2)² + a₀₁²), differentiated by autodiff. At a
     repeated eigenvalue (r = 0) r is taken with derivative 0, so dλ = dm for both: one element of the
     generalised gradient, as for the iterative path. Absolute error about eps · ‖A‖, as Jacobi's. For the
-    2 × 2 Gram matrix of a planar task (Bayle's and Korayem's laws) this is a few fused operations where
-    the Jacobi rotation, its sort and the eigenvector JVP were some twenty small kernels."""
+    2 × 2 Gram matrix of a planar task (Bayle's law on ``bayle_planar``) the eigenvalues and their gradient
+    compile to 3 fused kernels, where the Jacobi rotation, its sort and the eigenvector JVP took 6 and a
+    matrix product."""
     top, bottom = unstack(a, axis=-2)
     a00, a01 = unstack(top)
     a11 = unstack(bottom)[1]
