@@ -106,20 +106,15 @@ def _unicycle_exp(q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
 
 
 # Butcher-like tables: stage i evaluates the law at Y_i, t + c_i h. Lie: Y_i = q ∘ exp(h A_i·X) ∘ exp(h B_i·X);
-# RK4: Y_i = q + h A_i·K with K_j = S(Y_j) X_j. One law call site inside a scan over the stages keeps the
-# compiled program (and the compilation time) the size of one law evaluation.
+# RK4: Y_i = q + h A_i·K with K_j = S(Y_j) X_j. The combinations are ``matvec`` broadcast sums, which XLA
+# fuses (a ``w @ rows`` product is a kernel of its own). One law call site inside a scan over the stages
+# keeps the compiled program (and the compilation time) the size of one law evaluation.
 _A = np.array([[0.0, 0.0, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0]])
 _B_LIE = np.array([[0.0, 0.0, 0.0, 0.0]] * 3 + [[-0.5, 0.0, 1.0, 0.0]])
 _A_RK4 = np.array([[0.0, 0.0, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
 _C = np.array([0.0, 0.5, 0.5, 1.0])
 _LIE_OUT = (np.array([3.0, 2.0, 2.0, -1.0]) / 12.0, np.array([-1.0, 2.0, 2.0, 3.0]) / 12.0)
 _RK4_OUT = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
-
-
-def _weighted(w, rows):
-    """Σ_i w_i rows_i for the stage tables: a broadcast sum, which XLA fuses with its neighbours (a product
-    ``w @ rows`` is a matrix-product kernel of its own, several per stage)."""
-    return jnp.sum(w[:, None] * rows, axis=0)
 
 
 def _step(robot, integrator, control, q, t, h):
@@ -131,9 +126,9 @@ def _step(robot, integrator, control, q, t, h):
         x, k = carry
         onehot, a, b, c = row
         if lie:
-            y = _unicycle_exp(_unicycle_exp(q, h * _weighted(a, x)), h * _weighted(b, x))
+            y = _unicycle_exp(_unicycle_exp(q, h * matvec(x.T, a)), h * matvec(x.T, b))
         else:
-            y = q + h * _weighted(a, k)
+            y = q + h * matvec(k.T, a)
         eta, info = control(y, t + c * h)
         x = x + onehot[:, None] * eta
         # the stage's η and info as one vector: one output buffer written per stage instead of one per entry
@@ -145,10 +140,10 @@ def _step(robot, integrator, control, q, t, h):
     table = (np.eye(4), _A if lie else _A_RK4, _B_LIE, _C)
     (x, k), samples = jax.lax.scan(stage, zeros, table)
     if lie:
-        q_mid = _unicycle_exp(q, h * _weighted(_LIE_OUT[0], x))
-        q_next = _unicycle_exp(q_mid, h * _weighted(_LIE_OUT[1], x))
+        q_mid = _unicycle_exp(q, h * matvec(x.T, _LIE_OUT[0]))
+        q_next = _unicycle_exp(q_mid, h * matvec(x.T, _LIE_OUT[1]))
     else:
-        q_mid, q_next = None, q + h * _weighted(_RK4_OUT, k)
+        q_mid, q_next = None, q + h * matvec(k.T, _RK4_OUT)
     return (q_next, q_mid, *unravel[0](samples[0]))
 
 
