@@ -261,13 +261,23 @@ class MobileManipulator:
             links.append(arm.link_poses(q_a, base=mount_pose))
         return Frames(platform, tuple(mounts), tuple(links))
 
-    def point_jacobian(self, q: jnp.ndarray, frames: Frames, point: jnp.ndarray, arm: int | None, upto: int):
+    def point_jacobian(
+        self,
+        q: jnp.ndarray,
+        frames: Frames,
+        point: jnp.ndarray,
+        arm: int | None,
+        upto: int,
+        coupled: bool = True,
+    ):
         """Linear (3 × n_q) and angular (3 × n_q) velocity Jacobians of a point rigidly attached to
         frame ``upto`` of arm ``arm`` (only joints ≤ upto move it; ``arm=None``: attached to the platform).
 
         Columns: platform x, y → unit vectors, θ → e_z × (p − o_platform) (further platform coordinates, such
         as a steering angle, do not move the body); revolute joint j → a_j × (p − o_j), prismatic → a_j
-        (the geometric Jacobian), multiplied by the arm's coupling matrix.
+        (the geometric Jacobian), multiplied by the arm's coupling matrix (``coupled=False``: the columns of
+        the joints' motion variables, see :meth:`couple`). Differentiated by autodiff through ``frames``;
+        :func:`mobman.model.frame_jacobian.frame_jacobian` gives the same columns with a closed-form derivative.
         """
         n_p = self.platform.n_q
         origin = frames.platform[1]
@@ -295,10 +305,31 @@ class MobileManipulator:
             ang_cols = jnp.where(revolute[:, None], axes, 0.0)
             lin_cols = jnp.where(moves[:, None], lin_cols, 0.0).T
             ang_cols = jnp.where(moves[:, None], ang_cols, 0.0).T
-            c = a.coupling_matrix
-            j_lin.append(lin_cols @ c if a.coupling is not None else lin_cols)
-            j_ang.append(ang_cols @ c if a.coupling is not None else ang_cols)
-        return jnp.concatenate(j_lin, axis=1), jnp.concatenate(j_ang, axis=1)
+            j_lin.append(lin_cols)
+            j_ang.append(ang_cols)
+        lin, ang = jnp.concatenate(j_lin, axis=1), jnp.concatenate(j_ang, axis=1)
+        return (self.couple(lin), self.couple(ang)) if coupled else (lin, ang)
+
+    @cached_property
+    def _coupled(self) -> bool:
+        return any(a.coupling is not None for a in self.arms)
+
+    def couple(self, columns: jnp.ndarray) -> jnp.ndarray:
+        """Columns over the joints' motion variables (platform first) → columns over q: each arm's block
+        times its coupling matrix C (motion = C q_a). Unchanged when no arm is coupled."""
+        if not self._coupled:
+            return columns
+        blocks = jax.lax.split(columns, (self.platform.n_q,) + tuple(a.n_joints for a in self.arms), axis=-1)
+        arms = [b @ a.coupling_matrix if a.coupling is not None else b for b, a in zip(blocks[1:], self.arms)]
+        return jnp.concatenate([blocks[0], *arms], axis=-1)
+
+    def motion_rates(self, q_dot: jnp.ndarray) -> jnp.ndarray:
+        """q̇ → the rates of the platform coordinates and of the joints' motion variables (C q̇_a per arm)."""
+        if not self._coupled:
+            return q_dot
+        blocks = jax.lax.split(q_dot, (self.platform.n_q,) + tuple(a.n_joints for a in self.arms), axis=-1)
+        arms = [a.motion_variables(b) for b, a in zip(blocks[1:], self.arms)]
+        return jnp.concatenate([blocks[0], *arms], axis=-1)
 
     def describe(self) -> dict:
         """A JSON-friendly description: name, parameters, coordinates, controls, limits."""

@@ -2,8 +2,10 @@
 
 A task is an immutable, hashable object with ``names`` and two per-configuration methods:
 ``value(robot, q, frames)`` and ``jacobian(robot, q, frames)``. Position tasks build the geometric
-Jacobian from the chain; orientation tasks chain-rule the angle extraction through Ṙ = [ω]× R; all other
-tasks (user functions of q) are differentiated by forward-mode autodiff. Stacks concatenate rows — this is
+Jacobian from the chain; orientation tasks chain-rule the angle extraction through Ṙ = [ω]× R; both take
+the frame and its columns from :func:`~mobman.model.frame_jacobian.frame_jacobian`, whose derivative is in
+closed form (the kinematic Hessian). All other tasks (user functions of q) are differentiated by
+forward-mode autodiff. Stacks concatenate rows — this is
 how Korayem's extra rows and Tchoń's output extension are expressed.
 """
 
@@ -18,6 +20,7 @@ import jax.numpy as jnp
 
 from mobman.errors import ModelError
 from mobman.model import spatial
+from mobman.model.frame_jacobian import frame_jacobian
 
 if TYPE_CHECKING:
     from mobman.model.robot import Frames, MobileManipulator
@@ -64,6 +67,11 @@ def _rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
     return jnp.stack([rows[i] for i in indices])
 
 
+def _last_moving(robot: "MobileManipulator", arm: int, link: int) -> int:
+    """The last joint that moves frame ``link`` of arm ``arm`` (``link=-1``: the tool frame)."""
+    return robot.arms[arm].n_joints - 1 if link == -1 else link
+
+
 def _check_arm(robot: "MobileManipulator", arm: int, link: int | None = None) -> None:
     if not 0 <= arm < len(robot.arms):
         raise ModelError(f"task: arm index {arm} out of range 0..{len(robot.arms) - 1}")
@@ -96,17 +104,17 @@ class Position(Task):
     def check(self, robot) -> None:
         _check_arm(robot, self.arm, self.link)
 
-    def _point(self, frames):
+    def _frame(self, frames):
+        """The link's rotation and the task point."""
         rs, ps = frames.links[self.arm]
-        return ps[self.link] + spatial.matvec_constant(rs[self.link], self.point)
+        return rs[self.link], ps[self.link] + spatial.matvec_constant(rs[self.link], self.point)
 
     def value(self, robot, q, frames):
-        return _rows(self._point(frames), _components(self.components))
+        return _rows(self._frame(frames)[1], _components(self.components))
 
     def jacobian(self, robot, q, frames):
-        n = robot.arms[self.arm].n_joints
-        upto = n - 1 if self.link == -1 else self.link
-        lin, _ = robot.point_jacobian(q, frames, self._point(frames), self.arm, upto)
+        upto = _last_moving(robot, self.arm, self.link)
+        _, _, lin, _ = frame_jacobian(robot, self._frame, self.arm, upto, q)
         return _rows(lin, _components(self.components))
 
 
@@ -127,11 +135,14 @@ class MountPosition(Task):
     def check(self, robot) -> None:
         _check_arm(robot, self.arm)
 
+    def _frame(self, frames):
+        return frames.mounts[self.arm]
+
     def value(self, robot, q, frames):
-        return _rows(frames.mounts[self.arm][1], _components(self.components))
+        return _rows(self._frame(frames)[1], _components(self.components))
 
     def jacobian(self, robot, q, frames):
-        lin, _ = robot.point_jacobian(q, frames, frames.mounts[self.arm][1], None, -1)
+        _, _, lin, _ = frame_jacobian(robot, self._frame, None, -1, q)
         return _rows(lin, _components(self.components))
 
 
@@ -153,12 +164,13 @@ class _OrientationTask(Task):
     def value(self, robot, q, frames):
         return self.angles(frames.links[self.arm][0][self.link])
 
-    def jacobian(self, robot, q, frames):
+    def _frame(self, frames):
         rs, ps = frames.links[self.arm]
-        r = rs[self.link]
-        n = robot.arms[self.arm].n_joints
-        upto = n - 1 if self.link == -1 else self.link
-        _, omega = robot.point_jacobian(q, frames, ps[self.link], self.arm, upto)  # (3, n_q)
+        return rs[self.link], ps[self.link]
+
+    def jacobian(self, robot, q, frames):
+        upto = _last_moving(robot, self.arm, self.link)
+        r, _, _, omega = frame_jacobian(robot, self._frame, self.arm, upto, q)
         m = spatial.matmul(jax.jacfwd(self.angles)(r), r.T)  # (k, 3, 3)
         axial = jnp.stack([m[:, 2, 1] - m[:, 1, 2], m[:, 0, 2] - m[:, 2, 0], m[:, 1, 0] - m[:, 0, 1]], -1)
         return jnp.sum(axial[:, :, None] * omega[None], axis=1)
