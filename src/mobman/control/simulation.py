@@ -337,7 +337,7 @@ def simulate(
             progress(min(k0, n) / n)
     axis = 1 if (batch_law or batch_q) else 0
     out = jax.tree.map(lambda *xs: np.concatenate([np.asarray(x) for x in xs], axis=axis), *pieces)
-    out = jax.tree.map(lambda x: np.take(x, np.arange(n), axis=axis), out)
+    out = jax.tree.map(lambda x: x[(slice(None),) * axis + (slice(0, n),)], out)  # a view, not a copy
     q_path = out["q"]
     finite = np.all(np.isfinite(q_path), axis=-1) & np.all(np.isfinite(out["eta"]), axis=-1)
     if not np.all(finite):
