@@ -70,19 +70,13 @@ def _frame_jacobian_jvp(robot, frame_of, arm, upto, primals, tangents):
     m_dot = robot.motion_rates(q_dot)
     w = _running_sum(ang * m_dot, exclusive=True)
     v = _running_sum(lin * m_dot, reverse=True)
-    lin_dot = _columns_cross(w, lin) + _columns_cross(ang, v)
-    ang_dot = _columns_cross(w, ang)
+    # cross products of the columns (axis 0 of the 3 × n matrices)
+    lin_dot = spatial.cross(w, lin, axis=0) + spatial.cross(ang, v, axis=0)
+    ang_dot = spatial.cross(w, ang, axis=0)
     omega, p_dot = spatial.matvec(ang, m_dot), spatial.matvec(lin, m_dot)
-    r_dot = _columns_cross(jnp.broadcast_to(omega[:, None], r.shape), r)
+    r_dot = spatial.cross(jnp.broadcast_to(omega[:, None], r.shape), r, axis=0)
     primal = (r, p, robot.couple(lin), robot.couple(ang))
     return primal, (r_dot, p_dot, robot.couple(lin_dot), robot.couple(ang_dot))
-
-
-def _columns_cross(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
-    """Column-wise cross products of two 3 × n matrices."""
-    a0, a1, a2 = spatial.unstack(a, axis=0)
-    b0, b1, b2 = spatial.unstack(b, axis=0)
-    return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
 
 
 def _running_sum(x: jnp.ndarray, exclusive: bool = False, reverse: bool = False) -> jnp.ndarray:

@@ -118,11 +118,12 @@ def unstack(a: jnp.ndarray, axis: int = -1) -> list[jnp.ndarray]:
     return [jnp.squeeze(x, axis) for x in jax.lax.split(a, (1,) * a.shape[axis], axis=axis)]
 
 
-def cross(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
-    """Cross product along the last axis, written out (jnp.cross is slower under vmap on CPU)."""
-    a0, a1, a2 = unstack(a)
-    b0, b1, b2 = unstack(b)
-    return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+def cross(a: jnp.ndarray, b: jnp.ndarray, axis: int = -1) -> jnp.ndarray:
+    """Cross product along ``axis`` (the last by default; 0 for the columns of 3 × n matrices), written out
+    (jnp.cross is slower under vmap on CPU)."""
+    a0, a1, a2 = unstack(a, axis)
+    b0, b1, b2 = unstack(b, axis)
+    return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=axis)
 
 
 def compose_fixed_pose(pose: tuple[jnp.ndarray, jnp.ndarray], t: Transform):
