@@ -197,10 +197,11 @@ def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
 def _block_steps(robot: MobileManipulator, reference: Reference) -> int:
     """Steps per inner scan. XLA's CPU runtime runs a loop body's kernels one after the other on the calling
     thread only when every buffer they touch is at most 512 bytes or there are at most 8 of them; otherwise
-    it schedules them as a task graph over a thread pool, which costs more than these tiny kernels. The recorded samples of a block
-    (q, η, ξ*, each at most max(n_q, m) numbers a step) are kept under that size, and so is the block's
-    slice of the step indices; the outer scan over blocks writes them into the whole run's arrays. (On a
-    GPU the run is one block: there the nested loop only added launches, 10 % on an H200.)"""
+    it schedules them as a task graph over a thread pool, which costs more than these tiny kernels. The
+    recorded samples of a block (q, η, ξ*, each at most max(n_q, m) numbers a step) are kept under that
+    size, and so is the block's slice of the step indices; the outer scan over blocks writes them into the
+    whole run's arrays. (On a GPU the run is one block: there the nested loop only added launches, 10 % on
+    an H200.)"""
     return max(1, 64 // max(robot.n_q, reference.dim))
 
 

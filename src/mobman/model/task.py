@@ -5,8 +5,8 @@ A task is an immutable, hashable object with ``names`` and two per-configuration
 Jacobian from the chain; orientation tasks chain-rule the angle extraction through Ṙ = [ω]× R; both take
 the frame and its columns from :func:`~mobman.model.frame_jacobian.frame_jacobian`, whose derivative is in
 closed form (the kinematic Hessian). All other tasks (user functions of q) are differentiated by
-forward-mode autodiff. Stacks concatenate rows — this is
-how Korayem's extra rows and Tchoń's output extension are expressed.
+forward-mode autodiff. Stacks concatenate rows — this is how Korayem's extra rows and Tchoń's output
+extension are expressed.
 """
 
 from __future__ import annotations
