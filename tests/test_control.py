@@ -289,6 +289,13 @@ def test_error_dynamics_decay_rate(runs):
     assert track.error.shape == (3, 201, 2) and track.t[-1] == pytest.approx(DURATION)
 
 
+def test_recorded_xi_is_the_forward_kinematics_of_the_recorded_path(runs):
+    """ξ is recorded inside the compiled run (from the law's own evaluation), not recomputed afterwards."""
+    for result in runs:
+        np.testing.assert_allclose(result.xi, kinematics.forward(ROBOT, result.q, TASK), rtol=0, atol=1e-13)
+        np.testing.assert_allclose(result.error, result.xi_star - result.xi, rtol=0, atol=0)
+
+
 def test_self_motion_keeps_the_task_and_decreases_the_criterion(runs):
     _, rest = runs
     xi = rest.xi[1]
@@ -423,6 +430,7 @@ def test_augmented_jacobian_hits_end_points():
     end = start + np.array([0.8, 0.5, 0.3, -0.4])
     law = laws.AugmentedJacobian(extra=extra, feedback=5.0)
     res = simulate(robot, task, law, references.Line(start, end, 1.5, "quintic"), q0, DURATION, DT)
+    np.testing.assert_allclose(res.xi, kinematics.forward(robot, res.q, stack(task, extra)), atol=1e-13)
     assert np.allclose(res.xi[-1], end, atol=1e-8)
     assert np.max(np.abs(res.error)) < 1e-6
     # Korayem eq. 36: det [J_c; J_e; J_z] = l0 whatever the configuration

@@ -21,7 +21,8 @@ Integrators (``integrator=``):
     (the others take four); first order in h as an approximation of the continuous-time loop.
 
 The law is evaluated at the sampled configuration and at the stages; the η recorded at t_k is the one of the
-first stage (the control applied at t_k). Measures are computed after the run, batched over all samples.
+first stage (the control applied at t_k), and ξ(t_k) is recorded from the same evaluation. Measures are
+computed after the run, batched over all samples.
 """
 
 from __future__ import annotations
@@ -165,10 +166,14 @@ def _hold(robot, q, eta, h):
 def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
     """n samples from q0 at t = k0 dt (one configuration, one law)."""
 
+    ctask = controlled_task(law, task)
+
     def control(q, t):
         xs, xsd = reference._one(t)
         eta, info = law(robot, task, q, t, xs, xsd)
-        return eta, dict(info, xi_star=xs)
+        # (ξ*, ξ) as one entry: ξ as the law computes it (XLA evaluates it once), recorded here rather than
+        # recomputed after the run, without one more output buffer per step (see _block_steps)
+        return eta, dict(info, xi_pair=jnp.stack([xs, ctask.value(robot, q, robot.frames(q))]))
 
     def step(q, k):
         if integrator == "hold":
@@ -176,10 +181,10 @@ def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
             q_next, q_mid = _hold(robot, q, eta, dt), None
         else:
             q_next, q_mid, eta, info = _step(robot, integrator, control, q, k * dt, dt)
-        xs = info.pop("xi_star")
+        pair = info.pop("xi_pair")
         if q_mid is not None:
             info["q_mid"] = q_mid
-        return q_next, {"q": q, "eta": eta, "xi_star": xs, "info": info}
+        return q_next, {"q": q, "eta": eta, "xi_pair": pair, "info": info}
 
     steps = _block_steps(robot, reference) if jax.default_backend() == "cpu" else n
     blocks = -(-n // steps)
@@ -198,11 +203,11 @@ def _block_steps(robot: MobileManipulator, reference: Reference) -> int:
     """Steps per inner scan. XLA's CPU runtime runs a loop body's kernels one after the other on the calling
     thread only when every buffer they touch is at most 512 bytes or there are at most 8 of them; otherwise
     it schedules them as a task graph over a thread pool, which costs more than these tiny kernels. The
-    recorded samples of a block (q, η, ξ*, each at most max(n_q, m) numbers a step) are kept under that
-    size, and so is the block's slice of the step indices; the outer scan over blocks writes them into the
-    whole run's arrays. (On a GPU the run is one block: there the nested loop only added launches, 10 % on
-    an H200.)"""
-    return max(1, 64 // max(robot.n_q, reference.dim))
+    recorded samples of a block (q, η and the pair (ξ*, ξ): at most max(n_q, 2m) numbers a step each) are
+    kept under that size, and so is the block's slice of the step indices; the outer scan over blocks writes
+    them into the whole run's arrays. (On a GPU the run is one block: there the nested loop only added
+    launches, 10 % on an H200.)"""
+    return max(1, 64 // max(robot.n_q, 2 * reference.dim))
 
 
 @partial(jax.jit, static_argnums=(0, 1, 2, 3, 8, 9))
@@ -347,17 +352,15 @@ def simulate(
             f"simulation produced non-finite velocities at t = {bad[-1] * dt:g} s (sample {tuple(int(i) for i in bad)}): "
             "the law met a singular configuration (give it damping > 0) or a non-finite reference or criterion"
         )
-    from mobman.kinematics import forward
-
-    xi = np.asarray(forward(robot, q_path, ctask))
-    info = {k: np.asarray(v) for k, v in out["info"].items()}
+    xi_star, xi = out["xi_pair"][..., 0, :], out["xi_pair"][..., 1, :]
+    info = out["info"]
     return SimulationResult(
         t=np.arange(n) * dt,
         q=q_path,
         eta=out["eta"],
         xi=xi,
-        xi_star=out["xi_star"],
-        error=out["xi_star"] - xi,
+        xi_star=xi_star,
+        error=xi_star - xi,
         measures=compute_measures(robot, q_path, task, measures) if measures else {},
         saturated=info.pop("saturated"),
         damped=info.pop("damped"),
