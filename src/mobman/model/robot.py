@@ -317,18 +317,19 @@ class MobileManipulator:
     def couple(self, columns: jnp.ndarray) -> jnp.ndarray:
         """Columns over the joints' motion variables (platform first) → columns over q: each arm's block
         times its coupling matrix C (motion = C q_a). Unchanged when no arm is coupled."""
-        if not self._coupled:
-            return columns
-        blocks = jax.lax.split(columns, (self.platform.n_q,) + tuple(a.n_joints for a in self.arms), axis=-1)
-        arms = [b @ a.coupling_matrix if a.coupling is not None else b for b, a in zip(blocks[1:], self.arms)]
-        return jnp.concatenate([blocks[0], *arms], axis=-1)
+        return self._map_arm_blocks(columns, lambda arm, b: b @ arm.coupling_matrix)
 
     def motion_rates(self, q_dot: jnp.ndarray) -> jnp.ndarray:
         """q̇ → the rates of the platform coordinates and of the joints' motion variables (C q̇_a per arm)."""
+        return self._map_arm_blocks(q_dot, lambda arm, b: arm.motion_variables(b))
+
+    def _map_arm_blocks(self, x: jnp.ndarray, fn: Callable[[Arm, jnp.ndarray], jnp.ndarray]) -> jnp.ndarray:
+        """x (..., n_q) with ``fn(arm, block)`` applied to the block of every coupled arm (the last axis split
+        as platform, arm 1, arm 2, …); x itself when no arm is coupled."""
         if not self._coupled:
-            return q_dot
-        blocks = jax.lax.split(q_dot, (self.platform.n_q,) + tuple(a.n_joints for a in self.arms), axis=-1)
-        arms = [a.motion_variables(b) for b, a in zip(blocks[1:], self.arms)]
+            return x
+        blocks = jax.lax.split(x, (self.platform.n_q,) + tuple(a.n_joints for a in self.arms), axis=-1)
+        arms = [fn(a, b) if a.coupling is not None else b for b, a in zip(blocks[1:], self.arms)]
         return jnp.concatenate([blocks[0], *arms], axis=-1)
 
     def describe(self) -> dict:
