@@ -2,11 +2,12 @@
 
 ``jnp.linalg.eigh`` / ``svd`` call LAPACK (CPU) or cuSOLVER (GPU) once per tiny matrix, which is slow for a
 million 6 × 6 matrices. Here the classical cyclic Jacobi method (Golub & Van Loan, *Matrix Computations*,
-§8.5: ``sym.schur2`` rotations swept over every pair (p, q)) is written elementwise in a
-structure-of-arrays layout: every matrix entry is one array over the batch (batch axis last in memory), and
-each sweep is one fully unrolled straight-line program that XLA fuses into tight vectorised loops on the CPU and
-the GPU. Eigenvalues alone stop sweeping once the diagonal of every matrix in the batch is provably within
-eps · ‖A‖_F of the eigenvalues (Weyl's and the Kato–Temple bounds); eigenvectors run the fixed count of sweeps.
+§8.5: ``sym.schur2`` rotations swept over every pair (p, q), here in the parallel round-robin order) is
+written elementwise in a structure-of-arrays layout: every matrix entry is one array over the batch (batch
+axis last in memory), and each sweep is one fully unrolled straight-line program that XLA fuses into tight
+vectorised loops on the CPU and the GPU. Eigenvalues alone stop sweeping once the diagonal of every matrix in
+the batch is provably within eps · ‖A‖_F of the eigenvalues (Weyl's and the Kato–Temple bounds); eigenvectors
+run the fixed count of sweeps.
 
 One matrix is different: unrolled, the Jacobi program is about a hundred tiny XLA kernels per sweep, while
 LAPACK solves a 6 × 6 problem in one call. So on the CPU a single n × n matrix (3 ≤ n ≤ 8) goes to LAPACK,
@@ -61,12 +62,35 @@ def _rotation(app, aqq, apq):
     return c, t * c, t
 
 
+@lru_cache(maxsize=None)
+def round_robin_pairs(n: int) -> tuple[tuple[int, int], ...]:
+    """The pairs (p, q), p < q, of one Jacobi sweep over n indices in the parallel ("round-robin") order of
+    Brent & Luk (*SIAM J. Sci. Stat. Comput.* 6, 1985; Golub & Van Loan §8.5): n − 1 rounds (n rounds for n
+    odd) of ⌊n/2⌋ disjoint pairs, index 0 fixed and the others turned one place after each round, like the
+    players of a chess tournament. Each pair appears once per sweep, so the sweep is cyclic and converges
+    quadratically like the row-cyclic one; the rotations of a round touch disjoint rows and columns. It also
+    converges sooner: on the 6 × 6 Gram matrices of a Panda J̄ at random configurations, 92 % of single
+    matrices pass the stopping test after 4 sweeps and none needs more than 5 (row-cyclic order: 65 %, and
+    a block of 128 needed 6 sweeps in 6 of 32 blocks, never in this order); the eigenvalues of a batch take
+    about 20 % less time (docs/manipulability.md)."""
+    m = n + n % 2  # an odd n gets a dummy index m − 1: its pairs are skipped
+    ring = list(range(m))
+    pairs = []
+    for _ in range(m - 1):
+        for i in range(m // 2):
+            p, q = sorted((ring[i], ring[m - 1 - i]))
+            if q < n:
+                pairs.append((p, q))
+        ring = [ring[0], ring[-1], *ring[1:-1]]
+    return tuple(pairs)
+
+
 def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
     """Unsorted eigenvalues (..., n) and, if ``vectors``, eigenvectors (..., n, n) (columns).
 
     The state is the upper triangle of A (and V) as separate batch arrays; one sweep visits every pair
-    (p, q) once (row-cyclic order) and is unrolled; sweeps run in a loop (small compile time): ``sweeps`` of
-    them with eigenvectors, until convergence without. For n ≤ 2 one rotation is exact: a single sweep.
+    (p, q) once, in the parallel order of :func:`round_robin_pairs`, and is unrolled; sweeps run in a loop
+    (small compile time): ``sweeps`` of them with eigenvectors, until convergence without. For n ≤ 2 one rotation is exact: a single sweep.
     """
     n = a.shape[-1]
     t = _soa(a)
@@ -81,23 +105,22 @@ def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
 
     def sweep(_, carry):
         s, v = list(carry[0]), list(carry[1])
-        for p in range(n - 1):
-            for q in range(p + 1, n):
-                app, aqq, apq = s[at(p, p)], s[at(q, q)], s[at(p, q)]
-                c, sn, tan = _rotation(app, aqq, apq)
-                for r in range(n):
-                    if r in (p, q):
-                        continue
-                    arp, arq = s[at(r, p)], s[at(r, q)]
-                    s[at(r, p)] = c * arp - sn * arq
-                    s[at(r, q)] = sn * arp + c * arq
-                s[at(p, p)] = app - tan * apq
-                s[at(q, q)] = aqq + tan * apq
-                s[at(p, q)] = jnp.zeros_like(apq)
-                for r in range(n if vectors else 0):
-                    vrp, vrq = v[r * n + p], v[r * n + q]
-                    v[r * n + p] = c * vrp - sn * vrq
-                    v[r * n + q] = sn * vrp + c * vrq
+        for p, q in round_robin_pairs(n):
+            app, aqq, apq = s[at(p, p)], s[at(q, q)], s[at(p, q)]
+            c, sn, tan = _rotation(app, aqq, apq)
+            for r in range(n):
+                if r in (p, q):
+                    continue
+                arp, arq = s[at(r, p)], s[at(r, q)]
+                s[at(r, p)] = c * arp - sn * arq
+                s[at(r, q)] = sn * arp + c * arq
+            s[at(p, p)] = app - tan * apq
+            s[at(q, q)] = aqq + tan * apq
+            s[at(p, q)] = jnp.zeros_like(apq)
+            for r in range(n if vectors else 0):
+                vrp, vrq = v[r * n + p], v[r * n + q]
+                v[r * n + p] = c * vrp - sn * vrq
+                v[r * n + q] = sn * vrp + c * vrq
         return s, v
 
     init = (state, eye if vectors else [])
@@ -272,4 +295,4 @@ def gram(a: jnp.ndarray) -> jnp.ndarray:
     return jnp.sum(a[..., :, None, :] * a[..., None, :, :], axis=-1)
 
 
-__all__ = ["SWEEPS", "eigh", "eigvalsh", "gram"]
+__all__ = ["SWEEPS", "eigh", "eigvalsh", "gram", "round_robin_pairs"]
