@@ -148,12 +148,13 @@ def test_task_jacobians_differentiate_through_the_rule(robot):
 
 
 def test_law_with_a_manipulability_gradient_compiles_without_the_chain_reverse_pass():
-    """With the rule, the Bayle law with ∇w5 on bayle_planar compiles to 38 kernels (49 when the gradient
-    went back through every frame); the bound leaves room for XLA's fusion choices."""
+    """With the rule, the Bayle law with ∇w5 on bayle_planar compiles to 44 kernels (57 when the gradient
+    goes back through every frame; 38 and 49 while the chain's products were reductions); the bound leaves
+    room for XLA's fusion choices."""
     robot = robots.bayle_planar()
     law = laws.BaylePseudoInverse(W=1.0, k=0.5, criterion=criteria.Manipulability("eccentricity", "system"))
     fn = jax.jit(lambda q, xs, xsd: law(robot, Position("xy"), q, 0.0, xs, xsd))
     text = fn.lower(np.array([0.0, 0.0, 0.0, -0.7, 1.5]), np.zeros(2), np.zeros(2)).compile().as_text()
     entry = text[text.index("ENTRY") :]
     kernels = re.findall(r"= \S+ (?:fusion|custom-call|dot)\(", entry)
-    assert len(kernels) <= 42, len(kernels)
+    assert len(kernels) <= 48, len(kernels)

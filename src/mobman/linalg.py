@@ -36,7 +36,7 @@ from functools import lru_cache, partial, reduce
 import jax
 import jax.numpy as jnp
 
-from mobman.model.spatial import unstack
+from mobman.model.spatial import matmul_expanded, unstack
 
 SWEEPS = 7
 """Cyclic Jacobi sweeps: the number run for eigenvectors, the most run for eigenvalues (enough for double
@@ -291,8 +291,7 @@ def gram(a: jnp.ndarray) -> jnp.ndarray:
     m, k = a.shape[-2:]
     if m > k:
         a = jnp.swapaxes(a, -1, -2)
-    # broadcast product and sum rather than a batched matmul: fuses into one loop under XLA
-    return jnp.sum(a[..., :, None, :] * a[..., None, :, :], axis=-1)
+    return matmul_expanded(a, jnp.swapaxes(a, -1, -2))
 
 
 __all__ = ["SWEEPS", "eigh", "eigvalsh", "gram", "round_robin_pairs"]

@@ -151,7 +151,7 @@ def eccentricity(j, rank: int | None = None) -> jnp.ndarray:
 
 @jax.jit
 def _ellipsoid(j):
-    lam, u = linalg.eigh(jnp.sum(j[..., :, None, :] * j[..., None, :, :], axis=-1))
+    lam, u = linalg.eigh(spatial.matmul_expanded(j, jnp.swapaxes(j, -1, -2)))
     return _safe_sqrt(lam), u
 
 

@@ -93,8 +93,9 @@ class Joint:
         p = p_parent + R_parent p_o. Prismatic: R = R_parent R_o, p = p_parent + R_parent (p_o + v R_o axis).
         The constant factors enter as Python scalars (:func:`spatial.combine`): a DH origin's zeros and ±1
         cost nothing, and the compiled chain holds no constant arrays (XLA's CPU runtime sets every constant
-        array of a program up again at each call). The product with R_parent stays a reduction, which XLA
-        computes once per frame rather than inside every later frame's kernel.
+        array of a program up again at each call). The product with R_parent is written out
+        (:func:`spatial.matmul_expanded`): no reduction kernel per frame, and batched no library call for it
+        (docs/kinematics.md).
         """
         r, p = parent
         r_o, p_o = spatial.fixed_pose(self.origin)
@@ -107,7 +108,7 @@ class Joint:
         k = spatial.skew(axis)
         factors = (jnp.ones_like(value), jnp.sin(value), 1.0 - jnp.cos(value))
         local = spatial.constant_combination((r_o, r_o @ k, r_o @ k @ k), factors)
-        return spatial.matmul(r, local), p
+        return spatial.matmul_expanded(r, local), p
 
 
 @dataclass(frozen=True)

@@ -240,7 +240,7 @@ class MobileManipulator:
         S_p); batched it is as fast as J S."""
         n_p = self.platform.n_q
         j_p, j_a = jax.lax.split(j, (n_p, j.shape[1] - n_p), axis=1)
-        return jnp.concatenate([spatial.matmul(j_p, self.platform.S(q[:n_p])), j_a], axis=1)
+        return jnp.concatenate([spatial.matmul_expanded(j_p, self.platform.S(q[:n_p])), j_a], axis=1)
 
     def constraints(self, q: jnp.ndarray) -> jnp.ndarray:
         """G(q) = [G_p(q_p) 0] with G(q) q̇ = 0 (Bayle §4.2), shape (n_q − n_eta, n_q)."""

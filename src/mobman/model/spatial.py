@@ -71,8 +71,22 @@ def skew(v: np.ndarray) -> np.ndarray:
 
 
 def matmul(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
-    """a @ b for stacks of small matrices, as a broadcast product and sum (fuses under XLA)."""
+    """a @ b for stacks of small matrices, as a broadcast product and sum: one reduction, which XLA fuses
+    with what produces and uses it. For the control laws' algebra at one configuration (pseudo-inverses,
+    projectors, stage sums); the kinematic model uses :func:`matmul_expanded`."""
     return jnp.sum(a[..., :, :, None] * b[..., None, :, :], axis=-2)
+
+
+def matmul_expanded(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
+    """a @ b for stacks of small matrices, written out as the sum of the outer products of a's columns and
+    b's rows: no reduction at all. For the kinematic model's products (a chain's rotations, Jacobian rows,
+    Gram matrices). Batched, XLA hands reductions to its YNN library kernels, which are slow for matrices
+    this small (a Panda's J̄ for a block of 128 configurations spent a third of its time in three of them),
+    and for one configuration each 3 × 3 product of a chain is a reduction kernel of its own; written out,
+    the products fuse with their neighbours as elementwise loops (docs/kinematics.md). In the control laws'
+    algebra the reduction is the faster form (measured in the compiled control step)."""
+    terms = [c[..., :, None] * r[..., None, :] for c, r in zip(unstack(a), unstack(b, axis=-2))]
+    return sum(terms[1:], terms[0])
 
 
 def matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:

@@ -171,9 +171,9 @@ class _OrientationTask(Task):
     def jacobian(self, robot, q, frames):
         upto = _last_moving(robot, self.arm, self.link)
         r, _, _, omega = frame_jacobian(robot, self._frame, self.arm, upto, q)
-        m = spatial.matmul(jax.jacfwd(self.angles)(r), r.T)  # (k, 3, 3)
+        m = spatial.matmul_expanded(jax.jacfwd(self.angles)(r), r.T)  # (k, 3, 3)
         axial = jnp.stack([m[:, 2, 1] - m[:, 1, 2], m[:, 0, 2] - m[:, 2, 0], m[:, 1, 0] - m[:, 0, 1]], -1)
-        return jnp.sum(axial[:, :, None] * omega[None], axis=1)
+        return spatial.matmul_expanded(axial, omega)
 
 
 @dataclass(frozen=True)
