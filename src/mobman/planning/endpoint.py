@@ -33,6 +33,7 @@ import numpy as np
 
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
+from mobman.model.spatial import matmul, matvec
 from mobman.model.task import Task
 from mobman.planning import integrators
 from mobman.planning.basis import Basis, Fourier
@@ -178,12 +179,12 @@ def _integrate(setting: PlanningSetting, rhs, state, record: bool = False):
 
 def _control(lam: jnp.ndarray, phi: jnp.ndarray) -> jnp.ndarray:
     """u = Λ φ(t)."""
-    return jnp.sum(lam * phi[None, :], axis=1)
+    return matvec(lam, phi)
 
 
 def _velocity(setting: PlanningSetting, q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
-    """q̇_p = S_p(q_p) u (eq. 1), as a broadcast product and sum (see :func:`_matmul`)."""
-    return jnp.sum(setting.robot.platform.S(q) * u[None, :], axis=1)
+    """q̇_p = S_p(q_p) u (eq. 1)."""
+    return matvec(setting.robot.platform.S(q), u)
 
 
 def _endpoint_of(setting: PlanningSetting, task: Task, z, q0) -> jnp.ndarray:
@@ -218,11 +219,6 @@ def trajectory(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray,
     return np.linspace(0.0, setting.horizon, setting.steps + 1), np.asarray(q_p), np.asarray(y)
 
 
-def _matmul(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
-    """a @ b for tiny matrices as a broadcast product and sum (fast under ``vmap`` on a CPU)."""
-    return jnp.sum(a[:, :, None] * b[None, :, :], axis=1)
-
-
 def _variational(setting: PlanningSetting, task: Task, z, q0, with_mobility: bool) -> Variational:
     lam, x = setting.split(z)
     n_p = q0.shape[0]
@@ -233,8 +229,8 @@ def _variational(setting: PlanningSetting, task: Task, z, q0, with_mobility: boo
         u = _control(lam, phi)
         A = jax.jacfwd(lambda s: _velocity(setting, s, u))(q)
         B = platform.S(q)
-        d_xi = _matmul(A, xi) + (B[:, :, None] * phi[None, None, :]).reshape(n_p, -1)  # B (I_m ⊗ φᵀ)
-        d_mob = _matmul(A, mob) + _matmul(mob, A.T) + _matmul(B, B.T) if with_mobility else mob
+        d_xi = matmul(A, xi) + (B[:, :, None] * phi[None, None, :]).reshape(n_p, -1)  # B (I_m ⊗ φᵀ)
+        d_mob = matmul(A, mob) + matmul(mob, A.T) + matmul(B, B.T) if with_mobility else mob
         return _velocity(setting, q, u), d_xi, d_mob
 
     start = (q0, jnp.zeros((n_p, z.shape[0] - setting.n_joints)), jnp.zeros((n_p, n_p)))
