@@ -90,7 +90,8 @@ def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
 
     The state is the upper triangle of A (and V) as separate batch arrays; one sweep visits every pair
     (p, q) once, in the parallel order of :func:`round_robin_pairs`, and is unrolled; sweeps run in a loop
-    (small compile time): ``sweeps`` of them with eigenvectors, until convergence without. For n ≤ 2 one rotation is exact: a single sweep.
+    (small compile time): ``sweeps`` of them with eigenvectors, until convergence without. For n ≤ 2 one
+    rotation is exact: a single sweep.
     """
     n = a.shape[-1]
     t = _soa(a)
