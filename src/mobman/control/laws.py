@@ -176,8 +176,9 @@ class BaylePseudoInverse(_Law):
         return apply_gain(self.W, e, "W")
 
     def _self_motion(self, projector, s_scaled, grad):
-        h = matmul(s_scaled, projector)  # H = S R (I − J⁺J), n_q × δ
-        return -self.k * matvec(h.T, grad)  # (I − J⁺J) g = g for the exact projector
+        # Hᵀ ∇P with H = S R (I − J⁺J) (n_q × δ), as (I − J⁺J)ᵀ ((S R)ᵀ ∇P): two products with vectors
+        # instead of forming H
+        return -self.k * matvec(projector.T, matvec(s_scaled.T, grad))
 
     def __call__(self, robot, task: Task, q, t, xi_star, xi_star_dot):
         return _resolve(self, robot, task, q, xi_star, xi_star_dot)
