@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 import mobman
 import mobman.model.robot as robot_module
 from mobman import kinematics as K
+from mobman import manipulability
 from mobman.model import (
     Arm,
     CarLike,
@@ -402,8 +403,6 @@ def test_batched_jacobian_and_measures_have_no_library_reductions():
     the Panda's batched J̄); the model's products are written out (``spatial.matmul_expanded``), so the
     batched J̄ with orientation rows and its Gram matrix compile to none (checked: with the orientation rows,
     J_p S_p and the Gram matrix as reductions, the previous code, there were four)."""
-    from mobman import manipulability
-
     arm = Arm.from_modified_dh(PANDA_MDH, tool=spatial.transform(None, (0.0, 0.0, 0.107)))
     robot = MobileManipulator(DifferentialDrive(), (arm,), task=stack(Position("xyz"), EulerAngles("ZYX")))
     q = np.zeros((1_000, robot.n_q))
