@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from mobman import linalg
+from mobman.errors import InputError
 
 RNG = np.random.default_rng(3)
 
@@ -166,6 +167,12 @@ def test_round_robin_order_visits_every_pair_once_in_rounds_of_disjoint_pairs(n)
     for k in range(0, len(pairs), per_round):
         touched = [i for pair in pairs[k : k + per_round] for i in pair]
         assert len(set(touched)) == len(touched)
+
+
+def test_round_robin_order_of_no_or_one_index_is_empty_and_a_negative_size_is_refused():
+    assert linalg.round_robin_pairs(0) == linalg.round_robin_pairs(1) == ()
+    with pytest.raises(InputError, match="n must be a matrix size"):
+        linalg.round_robin_pairs(-2)
 
 
 def _sweeps_until_converged(a: np.ndarray, each: bool = False) -> np.ndarray:

@@ -362,6 +362,19 @@ def test_unstack_components_and_their_one_concatenation_gradient():
     np.testing.assert_allclose(jax.grad(loss)(jnp.asarray(a)), fd, rtol=1e-6, atol=1e-8)
 
 
+def test_matrix_products_written_out_and_as_reductions_equal_numpy():
+    """spatial.matmul (one reduction) and spatial.matmul_expanded (sum of outer products) equal NumPy's
+    product for stacks with broadcast leading dimensions and non-square shapes, and so do their gradients."""
+    rng = np.random.default_rng(12)
+    a, b = rng.normal(size=(4, 1, 3, 5)), rng.normal(size=(6, 5, 2))
+    for product in (spatial.matmul, spatial.matmul_expanded):
+        np.testing.assert_allclose(product(jnp.asarray(a), jnp.asarray(b)), a @ b, rtol=0, atol=1e-14)
+        grad = jax.grad(lambda x, f=product: jnp.sum(f(x, jnp.asarray(b)) ** 2))(jnp.asarray(a))
+        np.testing.assert_allclose(
+            grad, (2 * (a @ b) @ np.swapaxes(b, -1, -2)).sum(axis=1, keepdims=True), atol=1e-12
+        )
+
+
 def test_products_by_constants_written_over_their_nonzero_entries():
     """spatial.combine / matvec_constant / matmul_constant / constant_combination / compose_fixed_pose equal
     NumPy's products (zeros, ±1 and general entries; batched), and an all-zero combination is None."""

@@ -36,6 +36,7 @@ from functools import lru_cache, partial, reduce
 import jax
 import jax.numpy as jnp
 
+from mobman.errors import InputError
 from mobman.model.spatial import matmul_expanded, unstack
 
 SWEEPS = 7
@@ -73,6 +74,8 @@ def round_robin_pairs(n: int) -> tuple[tuple[int, int], ...]:
     matrices pass the stopping test after 4 sweeps and none needs more than 5 (row-cyclic order: 65 %, and
     a block of 128 needed 6 sweeps in 6 of 32 blocks, never in this order); the eigenvalues of a batch take
     about 20 % less time (docs/manipulability.md)."""
+    if n < 0:
+        raise InputError(f"round_robin_pairs: n must be a matrix size ≥ 0, got {n}")
     m = n + n % 2  # an odd n gets a dummy index m − 1: its pairs are skipped
     ring = list(range(m))
     pairs = []
