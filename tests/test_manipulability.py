@@ -146,6 +146,13 @@ def test_jacobian_and_measures_restricted_and_bad_input():
         mp.jacobian_and_measures(robot, q, which="base")
     with pytest.raises(InputError, match="rank"):
         mp.jacobian_and_measures(robot, q, rank=9)
+    # the options' checks are cached: an equal option of another type, or an unhashable one, is still refused
+    mp.jacobian_and_measures(robot, q, rank=4)
+    for bad in (4.0, [4]):
+        with pytest.raises(InputError, match="rank must be None or an integer"):
+            mp.jacobian_and_measures(robot, q, rank=bad)
+        with pytest.raises(InputError, match="rank must be None or an integer"):
+            mp.gradient(robot, q, rank=bad)
     car = robots.tchon_car_rtr()
     with pytest.raises(ModelError, match="velocity limits"):
         mp.jacobian_and_measures(car, np.zeros(car.n_q), which="system_normalized")

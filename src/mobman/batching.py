@@ -94,10 +94,12 @@ def across_cores(core_ndims: dict[int, int], min_share: int | None = None) -> Ca
     such as whole simulations).
     """
 
+    batched = tuple(core_ndims.items())
+
     def decorate(compiled: Callable) -> Callable:
         @functools.wraps(compiled)
         def call(*args, **kwargs):
-            plan = _share_plan(args, core_ndims, MIN_SHARE if min_share is None else min_share)
+            plan = _share_plan(args, batched, MIN_SHARE if min_share is None else min_share)
             if plan is None:
                 return compiled(*args, **kwargs)
             return _shared_call(compiled, args, kwargs, *plan)
@@ -134,23 +136,26 @@ def _shared_call(
     return jax.tree.map(lambda o: _as_jax(o.reshape(batch + o.shape[1:])), outs)
 
 
-def _share_plan(args: tuple, core_ndims: dict[int, int], min_share: int):
+def _share_plan(args: tuple, batched: tuple[tuple[int, int], ...], min_share: int):
     """(batch shape, flattened batched arguments, share size, share starts), or None for one plain call.
 
-    A single configuration is turned away first, from the shapes alone: its call pays nothing more."""
+    ``batched``: the (position, core dimensions) of the batched arguments. A small batch (one configuration
+    above all) is turned away first, from the shapes alone, in one short pass: Python work before a small
+    call's dispatch costs it about twice its own time (measured), so the common case does the least."""
     if WORKERS < 2:
         return None
-    shapes, leading, bound = {}, {}, 1
-    for i, n in core_ndims.items():
+    bound = 1
+    for i, n in batched:
         if i >= len(args):
             return None
         shape = args[i].shape if hasattr(args[i], "shape") else np.shape(args[i])
         if len(shape) < n:
             return None  # let the compiled function report the bad shape
-        shapes[i], leading[i] = shape, shape[: len(shape) - n]
-        bound *= math.prod(leading[i])
+        bound *= math.prod(shape[: len(shape) - n])
     if bound < 2 * min_share:
         return None  # the product of the leading sizes bounds the broadcast batch's size
+    shapes = {i: np.shape(args[i]) for i, _ in batched}
+    leading = {i: shapes[i][: len(shapes[i]) - n] for i, n in batched}
     if jax.default_backend() != "cpu" or any(isinstance(a, jax.core.Tracer) for a in args):
         return None
     try:
@@ -162,7 +167,7 @@ def _share_plan(args: tuple, core_ndims: dict[int, int], min_share: int):
     if workers < 2:
         return None
     flat = {}
-    for i, n in core_ndims.items():
+    for i, n in batched:
         x, core = args[i], shapes[i][len(shapes[i]) - n :]
         xp = jnp if isinstance(x, jax.Array) else np
         flat[i] = xp.reshape(xp.broadcast_to(x, batch + core), (size,) + core)

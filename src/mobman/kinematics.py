@@ -84,6 +84,8 @@ def _constraints(robot, q):
 def _q(robot: MobileManipulator, q):
     """Validated configurations. NumPy arrays go to the compiled functions as they are; a ``jax.Array`` is
     checked on its device and passed on without a copy to the host."""
+    if type(q) is np.ndarray:  # the common case first (a call for one configuration is mostly overhead)
+        return robot.validate_q(q)
     if isinstance(q, jax.core.Tracer):
         return q
     if isinstance(q, jax.Array):
