@@ -10,7 +10,7 @@ coordinates are absolute link angles (Nait-Chabane eq. 3).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal, Sequence
 
 import jax.numpy as jnp
@@ -20,6 +20,7 @@ from mobman import checks
 from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.spatial import IDENTITY, Transform
+from mobman.model.visual import Visual
 
 JointKind = Literal["revolute", "prismatic"]
 
@@ -51,7 +52,9 @@ class Joint:
     """One joint: fixed ``origin`` transform from the previous frame, then motion about unit ``axis``.
 
     The motion variable is ``q + offset`` (radians for revolute, metres for prismatic joints).
-    ``lower``/``upper`` bound the coordinate q, ``velocity_max`` bounds |q̇|.
+    ``lower``/``upper`` bound the coordinate q, ``velocity_max`` bounds |q̇|, ``effort_max`` bounds the
+    joint's torque or force (N·m or N). ``visuals`` are the shapes of the link the joint moves, in the joint's
+    frame after its motion (for drawing only: they take no part in equality or hashing).
     """
 
     kind: JointKind = "revolute"
@@ -63,6 +66,8 @@ class Joint:
     upper: float = math.inf
     velocity_max: float | None = None
     inertial: LinkInertial | None = None
+    effort_max: float | None = None
+    visuals: tuple[Visual, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
         if self.kind not in ("revolute", "prismatic"):
@@ -84,6 +89,9 @@ class Joint:
             )
         if self.velocity_max is not None and not (self.velocity_max > 0):
             raise ModelError(f"Joint {self.name!r}: velocity_max must be > 0, got {self.velocity_max!r}")
+        if self.effort_max is not None and not (self.effort_max > 0):
+            raise ModelError(f"Joint {self.name!r}: effort_max must be > 0, got {self.effort_max!r}")
+        object.__setattr__(self, "visuals", tuple(self.visuals))
 
     def pose_after(self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray):
         """World pose (R, p) of the joint frame, from its parent frame's world pose and the joint's motion

@@ -23,6 +23,7 @@ from mobman.model import spatial
 from mobman.model.arm import Arm, LinkInertial
 from mobman.model.platform import Platform
 from mobman.model.spatial import Transform
+from mobman.model.visual import Visual
 
 if TYPE_CHECKING:
     from mobman.model.task import Task
@@ -79,7 +80,11 @@ class Frames:
 
 @dataclass(frozen=True)
 class MobileManipulator:
-    """Platform + mounts + arms, with an operational task ξ = f(q) (default: first arm's tool position)."""
+    """Platform + mounts + arms, with an operational task ξ = f(q) (default: first arm's tool position).
+
+    ``platform_visuals`` are the shapes of the platform body in the platform frame (for drawing only: they
+    take no part in equality or hashing); each arm joint carries the shapes of its own link.
+    """
 
     platform: Platform
     arms: tuple[Arm, ...]
@@ -87,6 +92,7 @@ class MobileManipulator:
     task: "Task | None" = None
     name: str = "mobile-manipulator"
     parameters: tuple[tuple[str, float], ...] = field(default=(), compare=True)
+    platform_visuals: tuple[Visual, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
         arms = (self.arms,) if isinstance(self.arms, Arm) else tuple(self.arms)
@@ -99,6 +105,7 @@ class MobileManipulator:
         object.__setattr__(self, "arms", arms)
         object.__setattr__(self, "mounts", mounts)
         object.__setattr__(self, "parameters", tuple((str(k), float(v)) for k, v in self.parameters))
+        object.__setattr__(self, "platform_visuals", tuple(self.platform_visuals))
         if self.task is None:
             from mobman.model.task import Position
 
@@ -178,7 +185,7 @@ class MobileManipulator:
 
     def with_task(self, task: "Task") -> "MobileManipulator":
         """The same robot with another operational task."""
-        return MobileManipulator(self.platform, self.arms, self.mounts, task, self.name, self.parameters)
+        return replace(self, task=task)
 
     def with_link_inertials(self, inertials: "Sequence[LinkInertial]", arm: int = 0) -> "MobileManipulator":
         """The same robot with the links of arm ``arm`` given ``inertials`` (one per joint), for the dynamics."""
