@@ -53,7 +53,9 @@ class Visual:
 
     def __post_init__(self) -> None:
         if self.kind not in _SIZES:
-            raise ModelError(f"Visual {self.name!r}: kind must be one of {', '.join(_SIZES)}, got {self.kind!r}")
+            raise ModelError(
+                f"Visual {self.name!r}: kind must be one of {', '.join(_SIZES)}, got {self.kind!r}"
+            )
         size = tuple(float(v) for v in self.size)
         if len(size) != _SIZES[self.kind] or not all(np.isfinite(size)) or any(v <= 0 for v in size):
             raise ModelError(
