@@ -22,6 +22,13 @@ Laws
     [J̄; J̄_z] η = [ξ̇* + K e] (the constraint rows are satisfied by q̇ = S η); ``info["det"]`` is |det| of
     Korayem's n_q × n_q matrix [G; J; J_z].
 
+The operational error
+---------------------
+Every law takes e from the task, ``task.error(ξ*, ξ)``: the difference ξ* − ξ for the tasks whose value is
+a point of Rᵐ (the papers' tasks: the same numbers as a plain subtraction), and for a
+:class:`~mobman.model.task.Pose` the position difference and the rotation vector log(R* Rᵀ), with ξ̇* and
+the Jacobian rows in the same coordinates (linear and angular velocity).
+
 Options shared by all laws
 --------------------------
 ``normalized``: weighted pseudo-inverse with R = diag(robot.velocity_limits): η = R (J̄R)⁺ …, i.e. the
@@ -50,7 +57,7 @@ from mobman.control.criteria import Criterion
 from mobman.errors import ModelError
 from mobman.linalg import eigvalsh
 from mobman.model.spatial import matmul, matvec
-from mobman.model.task import Task
+from mobman.model.task import Task, stack
 
 
 def _gain(value, name: str, owner: str, allow_zero: bool = False) -> np.ndarray:
@@ -219,7 +226,7 @@ def _resolve(law, robot, task: Task, q, xi_star, xi_star_dot):
     xi = task.value(robot, q, frames)
     scale = law._scale(robot)
     jt = robot.apply_S(task.jacobian(robot, q, frames), q) * scale
-    e = xi_star - xi
+    e = task.error(xi_star, xi)
     inverse, lam2, sigma_min = damped_inverse(jt, law.damping, law.damping_threshold)
     eta = matvec(inverse, xi_star_dot + law._feedback(e))
     info = {"damping": lam2, "sigma_min": sigma_min}
@@ -262,7 +269,7 @@ class AugmentedJacobian(_Law):
         xi = jnp.concatenate([task.value(robot, q, frames), self.extra.value(robot, q, frames)])
         jac = jnp.concatenate([task.jacobian(robot, q, frames), self.extra.jacobian(robot, q, frames)])
         scale = self._scale(robot)
-        e = xi_star - xi
+        e = stack(task, self.extra).error(xi_star, xi)
         rhs = xi_star_dot if self.feedback is None else xi_star_dot + apply_gain(self.feedback, e, "feedback")
         jt = robot.apply_S(jac, q) * scale
         inverse, lam2, sigma_min = damped_inverse(jt, self.damping, self.damping_threshold)

@@ -6,6 +6,10 @@
   ``v_initial`` = the first such v (its sign says whether the platform starts forward or backward);
 - manipulability: minima (and final values) of the measures recorded in the result;
 - ``ee_path_length`` (tool position of the first arm) and ``platform_path_length`` (x, y), in m;
+- joint limits: ``joint_limit_violations`` = the number of samples where a coordinate is outside its position
+  limits, ``joint_limit_worst`` = the largest excess over a limit (rad or m; 0 when none) and
+  ``joint_limit_worst_joint`` its coordinate's name (None when none): the laws do not enforce the limits, so
+  a run reports them;
 - ``control_effort`` = ∫ ‖η‖² dt (rectangle rule);
 - ``acceleration_variation`` = Σ_k ‖η̇_{k+1} − η̇_k‖ with η̇ by finite differences: the total variation of the
   quasi-accelerations, large when the platform jerks or manoeuvres.
@@ -43,6 +47,21 @@ def _path_length(points: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=-1)))
 
 
+def joint_limit_violations(robot, q) -> dict:
+    """How a path of configurations q (N × n_q) leaves the robot's joint position limits: the number of
+    samples outside, the worst excess (rad or m) and the name of its coordinate (see the module docstring)."""
+    q = np.asarray(q, dtype=float)
+    limits = np.asarray(robot.position_limits, dtype=float)
+    excess = np.maximum(limits[:, 0] - q, 0.0) + np.maximum(q - limits[:, 1], 0.0)
+    worst = np.max(excess, axis=0)
+    joint = int(np.argmax(worst))
+    return {
+        "joint_limit_violations": int(np.count_nonzero(np.any(excess > 0.0, axis=-1))),
+        "joint_limit_worst": float(worst[joint]),
+        "joint_limit_worst_joint": robot.coordinate_names[joint] if worst[joint] > 0.0 else None,
+    }
+
+
 def summarize(result, robot=None, transient: float = 0.0, v_threshold: float = V_THRESHOLD) -> dict:
     """The metrics of one run as a JSON-friendly dict (see the module docstring)."""
     from mobman.kinematics import forward
@@ -73,6 +92,7 @@ def summarize(result, robot=None, transient: float = 0.0, v_threshold: float = V
         "acceleration_variation": float(np.sum(np.linalg.norm(np.diff(eta_dot, axis=0), axis=-1))),
         "saturated_steps": int(np.count_nonzero(result.saturated)),
         "damped_steps": int(np.count_nonzero(result.damped)),
+        **joint_limit_violations(robot, result.q),
     }
     for name, values in result.measures.items():
         out[f"{name}_min"] = float(np.min(values))
@@ -81,4 +101,4 @@ def summarize(result, robot=None, transient: float = 0.0, v_threshold: float = V
     return out
 
 
-__all__ = ["V_THRESHOLD", "first_significant", "graining_points", "summarize"]
+__all__ = ["V_THRESHOLD", "first_significant", "graining_points", "joint_limit_violations", "summarize"]

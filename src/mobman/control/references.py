@@ -6,6 +6,10 @@ recompile the simulation) with a
 then have shape ``t.shape + (dim,)``). Before t = 0 a reference holds its initial value, after its end it
 holds its final value (with zero velocity), except the periodic :class:`Ellipse`.
 
+Pose references (:class:`PoseReference`, :class:`PoseFunctionReference`) are for a
+:class:`~mobman.model.task.Pose` task: ξ* = (p*, log R*) and ξ̇* = (ṗ*, ω*), the linear and the world-frame
+angular velocity (not the derivative of the rotation vector).
+
 Timing laws s(τ), τ ∈ [0, 1] (Biagiotti & Melchiorri, *Trajectory planning for automatic machines*, §2.1):
 ``linear`` s = τ (constant speed), ``cubic`` s = 3τ² − 2τ³, ``quintic`` s = 10τ³ − 15τ⁴ + 6τ⁵ (zero velocity
 — and, quintic, zero acceleration — at both ends).
@@ -13,7 +17,7 @@ Timing laws s(τ), τ ∈ [0, 1] (Biagiotti & Melchiorri, *Trajectory planning f
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import jax
@@ -23,7 +27,8 @@ import numpy as np
 from mobman import checks
 from mobman.control._tree import pytree
 from mobman.errors import ModelError
-from mobman.model.spatial import matvec
+from mobman.model import so3
+from mobman.model.spatial import matmul, matvec
 
 TIMINGS = ("linear", "cubic", "quintic")
 
@@ -223,6 +228,108 @@ class FunctionReference(Reference):
         return jax.jvp(fn, (t,), (jnp.ones_like(t),))
 
 
+def _orientation(value, name: str, owner: str) -> np.ndarray:
+    """A rotation matrix from a rotation vector (3 numbers) or a rotation matrix (3 × 3, orthonormal)."""
+    arr = np.asarray(value, dtype=float)
+    if arr.shape == (3,) and np.all(np.isfinite(arr)):
+        return np.asarray(so3.exp(arr))
+    if arr.shape == (3, 3) and np.all(np.isfinite(arr)):
+        if np.abs(arr @ arr.T - np.eye(3)).max() > 1e-9 or np.linalg.det(arr) < 0:
+            raise ModelError(f"{owner}: {name} is not a rotation matrix (R Rᵀ = I, det R = 1)")
+        return arr
+    raise ModelError(
+        f"{owner}: {name} must be a finite rotation vector (3 numbers) or rotation matrix (3 × 3), "
+        f"got {value!r}"
+    )
+
+
+def _pose_sample(p, r, p_dot, omega):
+    """(ξ*, ξ̇*) of a pose sample: ((p, log R), (ṗ, ω))."""
+    return jnp.concatenate([p, so3.log(r)]), jnp.concatenate([p_dot, omega])
+
+
+@pytree("start", "end", "rotation_step", "duration")
+@dataclass(frozen=True, eq=False)
+class PoseReference(Reference):
+    """A pose path for a :class:`~mobman.model.task.Pose` task: the position on the straight segment from
+    p₀ to p₁ and the orientation on the geodesic (slerp) from R₀ to R₁, both at the same timing law
+    s(t/duration):
+
+        p*(t) = p₀ + s (p₁ − p₀),    R*(t) = exp(s φ) R₀,  φ = log(R₁ R₀ᵀ),
+        ṗ*(t) = ṡ (p₁ − p₀),         ω*(t) = ṡ φ
+
+    (R* turns about the fixed world axis of φ: the shortest rotation from R₀ to R₁, angle ≤ π; at exactly
+    π the two directions are equally short and one is taken). ``start`` = (p₀, R₀) and ``end`` = (p₁, R₁),
+    each orientation a rotation vector (3 numbers) or a rotation matrix (3 × 3); they are kept as
+    (position, rotation matrix). ξ* = (p*, log R*), ξ̇* = (ṗ*, ω*).
+    """
+
+    start: tuple
+    end: tuple
+    duration: float
+    timing: str = "quintic"
+    rotation_step: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        owner = "PoseReference"
+        for name in ("start", "end"):
+            pose = getattr(self, name)
+            if not isinstance(pose, (tuple, list)) or len(pose) != 2:
+                raise ModelError(f"{owner}: {name} must be a pair (position, orientation), got {pose!r}")
+            position = _vector(pose[0], f"{name} position", owner, 3)
+            object.__setattr__(self, name, (position, _orientation(pose[1], f"{name} orientation", owner)))
+        step = so3.log(self.end[1] @ self.start[1].T)
+        object.__setattr__(self, "rotation_step", np.asarray(step))
+        object.__setattr__(self, "duration", np.float64(checks.positive(self.duration, "duration", owner)))
+        _check_timing(self.timing, owner)
+
+    @property
+    def dim(self) -> int:
+        return 6
+
+    def _one(self, t):
+        tau = jnp.clip(t / self.duration, 0.0, 1.0)
+        inside = (t >= 0.0) & (t <= self.duration)
+        s, ds = timing_law(tau, self.timing)
+        rate = jnp.where(inside, ds / self.duration, 0.0)
+        p0, phi = jnp.asarray(self.start[0]), jnp.asarray(self.rotation_step)
+        delta = jnp.asarray(self.end[0]) - p0
+        r = matmul(so3.exp(s * phi), jnp.asarray(self.start[1]))
+        return _pose_sample(p0 + s * delta, r, rate * delta, rate * phi)
+
+
+@pytree()
+@dataclass(frozen=True, eq=False)
+class PoseFunctionReference(Reference):
+    """A user pose path t ↦ (p(t), R(t)) of a scalar t written with ``jax.numpy`` (R a 3 × 3 rotation
+    matrix), for a :class:`~mobman.model.task.Pose` task. The velocity comes from forward-mode autodiff:
+    ṗ, and ω = vee(Ṙ Rᵀ), the world-frame angular velocity."""
+
+    fn: Callable[[jnp.ndarray], tuple[jnp.ndarray, jnp.ndarray]]
+
+    def __post_init__(self) -> None:
+        if not callable(self.fn):
+            raise ModelError("PoseFunctionReference: fn must be a callable of t returning (p, R)")
+        try:
+            out = jax.eval_shape(self.fn, jnp.zeros(()))
+            shapes = tuple(tuple(o.shape) for o in out)
+        except (TypeError, ValueError) as exc:
+            raise ModelError(f"PoseFunctionReference: fn(t) must return (p, R): {exc}") from None
+        if shapes != ((3,), (3, 3)):
+            raise ModelError(
+                f"PoseFunctionReference: fn(t) must return p (3,) and R (3, 3), got shapes {shapes}"
+            )
+
+    @property
+    def dim(self) -> int:
+        return 6
+
+    def _one(self, t):
+        fn = lambda tt: tuple(jnp.asarray(x, dtype=float) for x in self.fn(tt))  # noqa: E731
+        (p, r), (p_dot, r_dot) = jax.jvp(fn, (t,), (jnp.ones_like(t),))
+        return _pose_sample(p, r, p_dot, so3.vee(matmul(r_dot, r.T)))
+
+
 @pytree("parts")
 @dataclass(frozen=True, eq=False)
 class Stack(Reference):
@@ -255,6 +362,8 @@ __all__ = [
     "FunctionReference",
     "Line",
     "Polyline",
+    "PoseFunctionReference",
+    "PoseReference",
     "Reference",
     "Stack",
     "TIMINGS",

@@ -54,8 +54,9 @@ _MEASURE_WHICH = ("system_normalized", "system", "arm")
 class SimulationResult:
     """Samples at t_k = k dt, k = 0 … N − 1 (a leading batch axis first when batched).
 
-    ``error`` = ξ* − ξ over the controlled task (the task stacked with the extra rows for
-    :class:`~mobman.control.laws.AugmentedJacobian`); ``measures`` name → values; ``info`` the law's
+    ``error`` = the controlled task's error e(ξ*, ξ) (ξ* − ξ for vector tasks, position difference and
+    rotation vector log(R* Rᵀ) for a :class:`~mobman.model.task.Pose`) over the controlled task (the task
+    stacked with the extra rows for :class:`~mobman.control.laws.AugmentedJacobian`); ``measures`` name → values; ``info`` the law's
     per-step entries (``damping`` λ², ``sigma_min``, ``limit_ratio``, ``P``, ``det``, …).
     """
 
@@ -360,7 +361,7 @@ def simulate(
         eta=out["eta"],
         xi=xi,
         xi_star=xi_star,
-        error=xi_star - xi,
+        error=np.asarray(ctask.error(xi_star, xi)),
         measures=compute_measures(robot, q_path, task, measures) if measures else {},
         saturated=info.pop("saturated"),
         damped=info.pop("damped"),

@@ -13,14 +13,17 @@ name = "bayle-planar"
 params = { l1 = 0.5, l2 = 0.5 }
 
 [task]                           # optional, default: the robot's own task
-kind = "position"                # position | planar_angle | elevation | mount_position | elbow_angle | stack
-components = "xy"                # stack: tasks = [{kind = ...}, ...]
+kind = "position"                # position | planar_angle | elevation | mount_position | elbow_angle | pose
+components = "xy"                # | stack: tasks = [{kind = ...}, ...]; pose: arm, link, label
 
 [reference]
-kind = "ellipse"                 # line | ellipse | polyline
+kind = "ellipse"                 # line | ellipse | polyline | pose
 center = [1.0, 0.0]
 semi_axes = [0.6, 0.3]
 period = 20.0
+# pose (for a pose task): start = [x, y, z], end = [x, y, z] (m), each orientation as a rotation vector
+# start_rotvec = [rx, ry, rz] (rad) or as start_rpy = [roll, pitch, yaw] (rad, R = Rz(yaw) Ry(pitch)
+# Rx(roll)), likewise end_rotvec or end_rpy; duration (s), timing = "quintic" (linear | cubic | quintic)
 
 [law]
 kind = "bayle"                   # bayle | nait-chabane | augmented
@@ -54,9 +57,9 @@ from mobman.control import criteria, laws, references
 from mobman.control.simulation import INTEGRATORS, _measure_names
 from mobman.errors import InputError, MobmanError
 from mobman.io import spec as fields
-from mobman.model import robots
+from mobman.model import robots, spatial
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import Elevation, FunctionTask, MountPosition, PlanarAngle, Position, Task, stack
+from mobman.model.task import Elevation, FunctionTask, MountPosition, PlanarAngle, Pose, Position, Task, stack
 
 TOP_KEYS = (
     "duration",
@@ -111,6 +114,12 @@ def _task(table: dict, field: str) -> Task:
 
         return make
 
+    def pose(t):
+        fields.keys(t, field, ("kind", "arm", "link", "label"))
+        return fields.build(
+            field, Pose, arm=t.get("arm", 0), link=t.get("link", -1), label=t.get("label", "ee")
+        )
+
     def elbow(t):
         fields.keys(t, field, ("kind",))
         return FunctionTask(robots.elbow_angle, ("beta",))
@@ -128,6 +137,7 @@ def _task(table: dict, field: str) -> Task:
         "planar_angle": angle(PlanarAngle),
         "elevation": angle(Elevation),
         "elbow_angle": elbow,
+        "pose": pose,
         "stack": stacked,
     }
     return fields.kind(table, field, kinds)(table)
@@ -172,7 +182,31 @@ def _reference(data: dict) -> references.Reference:
             timing=t.get("timing", "quintic"),
         )
 
-    return fields.kind(table, f, {"line": line, "ellipse": ellipse, "polyline": polyline})(table)
+    def orientation(t, end):
+        given = [k for k in (f"{end}_rotvec", f"{end}_rpy") if k in t]
+        if len(given) != 1:
+            raise InputError(f"{f}: give one of {end}_rotvec, {end}_rpy (rad), got {given or 'neither'}")
+        values = fields.array(t[given[0]], f"{f}.{given[0]}")
+        if values.shape != (3,):
+            raise InputError(f"{f}.{given[0]}: 3 numbers, got shape {values.shape}")
+        if given[0].endswith("rotvec"):
+            return values
+        return spatial.euler_matrix(values[::-1], "ZYX")
+
+    def pose(t):
+        keys = ("start", "end", "start_rotvec", "start_rpy", "end_rotvec", "end_rpy", "duration", "timing")
+        fields.keys(t, f, ("kind", *keys))
+        return fields.build(
+            f,
+            references.PoseReference,
+            start=(fields.array(t.get("start"), f"{f}.start"), orientation(t, "start")),
+            end=(fields.array(t.get("end"), f"{f}.end"), orientation(t, "end")),
+            duration=fields.number(t, "duration", f, positive=True),
+            timing=t.get("timing", "quintic"),
+        )
+
+    kinds = {"line": line, "ellipse": ellipse, "polyline": polyline, "pose": pose}
+    return fields.kind(table, f, kinds)(table)
 
 
 def _criterion(table: dict | None, field: str) -> criteria.Criterion | None:

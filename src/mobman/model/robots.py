@@ -1,4 +1,5 @@
-"""The papers' robots, every dimension a keyword argument named as in the paper.
+"""The papers' robots, every dimension a keyword argument named as in the paper, and a Franka Panda on a
+differential-drive base.
 
 Where a paper gives no value, the default is a documented choice (see ``docs/kinematics.md``). Each robot
 carries its paper's operational task. On the command line the names use hyphens (``bayle-planar``).
@@ -17,7 +18,7 @@ from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platform import CarLike, DifferentialDrive
 from mobman.model.robot import MobileManipulator, Mount
-from mobman.model.task import Elevation, PlanarAngle, Position, stack
+from mobman.model.task import Elevation, PlanarAngle, Pose, Position, stack
 
 _UP = (0.0, 0.0, 1.0)
 _LIFT = (0.0, -1.0, 0.0)  # rotating about −y lifts the x axis: positive angle = elevation
@@ -210,6 +211,56 @@ def yamamoto_dual_arm(
     )
 
 
+PANDA_MODIFIED_DH = (
+    (0.0, 0.0, 0.0, 0.333),
+    (-math.pi / 2, 0.0, 0.0, 0.0),
+    (math.pi / 2, 0.0, 0.0, 0.316),
+    (math.pi / 2, 0.0825, 0.0, 0.0),
+    (-math.pi / 2, -0.0825, 0.0, 0.384),
+    (math.pi / 2, 0.0, 0.0, 0.0),
+    (math.pi / 2, 0.088, 0.0, 0.0),
+)
+"""Franka Emika Panda, modified DH (Craig) rows (α_{i−1}, a_{i−1}, θ_i, d_i), from Franka's documentation."""
+PANDA_LIMITS = (
+    (-2.8973, 2.8973),
+    (-1.7628, 1.7628),
+    (-2.8973, 2.8973),
+    (-3.0718, -0.0698),
+    (-2.8973, 2.8973),
+    (-0.0175, 3.7525),
+    (-2.8973, 2.8973),
+)
+"""The Panda's joint position limits (rad)."""
+PANDA_SPEEDS = (2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61)
+"""The Panda's joint speed limits (rad/s)."""
+
+
+def panda_differential(v_max: float = 1.0, omega_max: float = 1.5, height: float = 0.4) -> MobileManipulator:
+    """A Franka Panda (7 joints, flange 0.107 m along the last z axis) on a differential-drive base, its
+    base ``height`` m above the axle midpoint; task: the flange pose (:class:`~mobman.model.task.Pose`).
+
+    The base's speed limits (v_max = 1 m/s, ω_max = 1.5 rad/s) and the mount height are a choice; the
+    arm's joint position and speed limits are Franka's.
+    """
+    _check_lengths("panda_differential", v_max=v_max, omega_max=omega_max)
+    _check_finite("panda_differential", height=height)
+    arm = Arm.from_modified_dh(
+        PANDA_MODIFIED_DH,
+        tool=_translation(z=0.107),
+        limits=PANDA_LIMITS,
+        velocity_limits=PANDA_SPEEDS,
+        name="panda",
+    )
+    return MobileManipulator(
+        DifferentialDrive(v_max=v_max, omega_max=omega_max),
+        (arm,),
+        (Mount(z=height),),
+        task=Pose(),
+        name="panda-differential",
+        parameters=(("v_max", v_max), ("omega_max", omega_max), ("height", height)),
+    )
+
+
 ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
     "bayle-planar": bayle_planar,
     "bayle-rrp": bayle_rrp,
@@ -217,6 +268,7 @@ ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
     "korayem-planar": korayem_planar,
     "tchon-car-rtr": tchon_car_rtr,
     "yamamoto-dual-arm": yamamoto_dual_arm,
+    "panda-differential": panda_differential,
 }
 
 

@@ -1,7 +1,11 @@
 """Operational coordinates ξ = f(q) (Bayle §2) and their Jacobians J = ∂f/∂q.
 
 A task is an immutable, hashable object with ``names`` and two per-configuration methods:
-``value(robot, q, frames)`` and ``jacobian(robot, q, frames)``. Position tasks build the geometric
+``value(robot, q, frames)`` and ``jacobian(robot, q, frames)``, and the operational error
+``error(xi_desired, xi)`` that the control laws regulate (e = ξ* − ξ for every task whose value is a point
+of Rᵐ; :class:`Pose`, whose orientation lives on SO(3), measures it by the rotation vector log(R* Rᵀ), and
+its Jacobian rows are the frame's angular velocity: ``jacobian`` maps q̇ to the rate of the error's
+coordinates, which is ∂ξ/∂q for the vector tasks). Position tasks build the geometric
 Jacobian from the chain; orientation tasks chain-rule the angle extraction through Ṙ = [ω]× R; both take
 the frame and its columns from :func:`~mobman.model.frame_jacobian.frame_jacobian`, whose derivative is in
 closed form (the kinematic Hessian). All other tasks (user functions of q) are differentiated by
@@ -19,7 +23,7 @@ import jax
 import jax.numpy as jnp
 
 from mobman.errors import ModelError
-from mobman.model import spatial
+from mobman.model import so3, spatial
 from mobman.model.frame_jacobian import frame_jacobian
 
 if TYPE_CHECKING:
@@ -46,6 +50,17 @@ class Task:
 
     def jacobian(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         return jax.jacfwd(lambda qq: self.value(robot, qq, robot.frames(qq)))(q)
+
+    @property
+    def euclidean(self) -> bool:
+        """True when the value is a point of Rᵐ, the error the difference ξ* − ξ and the Jacobian ∂ξ/∂q."""
+        return True
+
+    def error(self, xi_desired: jnp.ndarray, xi: jnp.ndarray) -> jnp.ndarray:
+        """The operational error e of ξ with respect to ξ* (arrays (..., m)): here ξ* − ξ. Tasks whose value
+        is not a point of Rᵐ (:class:`Pose`) override it; J q̇ is then the rate of change of −e at a fixed
+        ξ*."""
+        return xi_desired - xi
 
     def check(self, robot: "MobileManipulator") -> None:
         """Raise ModelError if the task does not fit the robot (arm index, link index)."""
@@ -237,6 +252,59 @@ class EulerAngles(_OrientationTask):
 
 
 @dataclass(frozen=True)
+class Pose(Task):
+    """Position and orientation of an arm frame: ξ = (p, r) with r = log R the rotation vector of the
+    frame's rotation R (angle in [0, π]; :mod:`mobman.model.so3`).
+
+    The error is e = (p* − p, log(R* Rᵀ)), the translation and the world-frame rotation vector that take
+    the frame to the desired pose, and the Jacobian rows are the geometric ones, the linear and the angular
+    velocity (v, ω) of the frame (:func:`~mobman.model.frame_jacobian.frame_jacobian`); a reference's
+    velocity ξ̇* is likewise (ṗ*, ω*) (:class:`~mobman.control.references.PoseReference`). No
+    representation singularity: r wraps at θ = π, but the error and the Jacobian are continuous, and the
+    Jacobian has full rank wherever the robot can turn the frame about every axis.
+
+    With J̄ η = ξ̇* + W e exactly (Bayle eq. 5–6 away from singularities), ė_p = −W_p e_p and, with E =
+    R* Rᵀ = exp(e_o), Ė Eᵀ = [ω* − E ω]× (the left Jacobian J_l(e_o) maps ė_o to it, J_l⁻¹(I − E) = −[e_o]×,
+    eᵀ J_l⁻¹ = eᵀ): for a gain W, d‖e‖²/dt = −2 eᵀ W e. The norm of the pose error decays at least as fast
+    as exp(−λ_min(W) t), whatever the reference's angular velocity.
+
+    ``link=-1`` is the tool frame; ``link=k`` the frame after joint k.
+    """
+
+    arm: int = 0
+    link: int = -1
+    label: str = "ee"
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(f"{c}_{self.label}" for c in ("x", "y", "z", "rx", "ry", "rz"))
+
+    @property
+    def euclidean(self) -> bool:
+        return False
+
+    def check(self, robot) -> None:
+        _check_arm(robot, self.arm, self.link)
+
+    def _frame(self, frames):
+        rs, ps = frames.links[self.arm]
+        return rs[self.link], ps[self.link]
+
+    def value(self, robot, q, frames):
+        r, p = self._frame(frames)
+        return jnp.concatenate([p, so3.log(r)])
+
+    def jacobian(self, robot, q, frames):
+        upto = _last_moving(robot, self.arm, self.link)
+        _, _, lin, omega = frame_jacobian(robot, self._frame, self.arm, upto, q)
+        return jnp.concatenate([lin, omega], axis=0)
+
+    def error(self, xi_desired, xi):
+        position = xi_desired[..., :3] - xi[..., :3]
+        return jnp.concatenate([position, so3.error(xi_desired[..., 3:], xi[..., 3:])], axis=-1)
+
+
+@dataclass(frozen=True)
 class FunctionTask(Task):
     """A user function of the generalized coordinates, ξ = fn(q) for one configuration (shape (m,)).
 
@@ -286,6 +354,20 @@ class Stack(Task):
 
     def jacobian(self, robot, q, frames):
         return jnp.concatenate([t.jacobian(robot, q, frames) for t in self.tasks], axis=0)
+
+    @property
+    def euclidean(self) -> bool:
+        return all(t.euclidean for t in self.tasks)
+
+    def error(self, xi_desired, xi):
+        """Each part's error on its rows (the difference when every part is euclidean)."""
+        if self.euclidean:
+            return xi_desired - xi
+        parts, start = [], 0
+        for t in self.tasks:
+            parts.append(t.error(xi_desired[..., start : start + t.dim], xi[..., start : start + t.dim]))
+            start += t.dim
+        return jnp.concatenate(parts, axis=-1)
 
 
 def stack(*tasks: Task) -> Stack:
