@@ -17,11 +17,14 @@ Both are written so that they are exact, finite and differentiable everywhere th
   with the largest diagonal entry, its sign from v. Every branch is evaluated with safe arguments, so
   derivatives through ``jnp.where`` stay finite.
 
-The functions take (..., 3) rotation vectors and (..., 3, 3) matrices with any leading dimensions.
+The functions take (..., 3) rotation vectors and (..., 3, 3) matrices with any leading dimensions; they are
+compiled (``jax.jit``), so that calls outside a compiled function do not run their few dozen operations
+one by one.
 """
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 
 from mobman.model import spatial
@@ -46,6 +49,7 @@ def vee(a: jnp.ndarray) -> jnp.ndarray:
     )
 
 
+@jax.jit
 def exp(r: jnp.ndarray) -> jnp.ndarray:
     """The rotation matrices (..., 3, 3) of rotation vectors r (..., 3), by Rodrigues' formula."""
     r = jnp.asarray(r, dtype=float)
@@ -59,6 +63,7 @@ def exp(r: jnp.ndarray) -> jnp.ndarray:
     return eye + a[..., None, None] * k + b[..., None, None] * spatial.matmul(k, k)
 
 
+@jax.jit
 def log(rotation: jnp.ndarray) -> jnp.ndarray:
     """The rotation vectors (..., 3), of angle in [0, π], of rotation matrices (..., 3, 3)."""
     rotation = jnp.asarray(rotation, dtype=float)
@@ -88,6 +93,7 @@ def log(rotation: jnp.ndarray) -> jnp.ndarray:
     return jnp.where(wide[..., None], near_pi, near_zero)
 
 
+@jax.jit
 def error(r_desired: jnp.ndarray, r: jnp.ndarray) -> jnp.ndarray:
     """log(R* Rᵀ) for R* = exp(r_desired), R = exp(r): the rotation vector, in the world frame, that turns
     R into R*."""
