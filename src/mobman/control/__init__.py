@@ -22,7 +22,8 @@ Notes for code written against ``docs/control_api`` (the contract):
   over gains), ``q0`` a (B, n_q) array (batch over initial configurations).
 - ``result.info``: ``damping`` (λ²), ``sigma_min``, ``limit_ratio``, ``P`` (with a criterion), ``det``
   (AugmentedJacobian: |det [G; J; J_z]|), ``q_mid`` (lie integrator).
-- ``metrics.summarize`` returns also ``final_error``, ``saturated_steps``, ``damped_steps`` and, per recorded
+- ``metrics.summarize`` returns also ``final_error``, ``saturated_steps``, ``damped_steps``, the joint-limit
+  report (``joint_limit_violations``, ``joint_limit_worst``, ``joint_limit_worst_joint``) and, per recorded
   measure NAME, ``NAME_min``, ``NAME_max``, ``NAME_final``; ``metrics.first_significant(v, threshold)``.
 """
 
