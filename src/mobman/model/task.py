@@ -59,7 +59,7 @@ class Task:
     def error(self, xi_desired: jnp.ndarray, xi: jnp.ndarray) -> jnp.ndarray:
         """The operational error e of ξ with respect to ξ* (arrays (..., m)): here ξ* − ξ. Tasks whose value
         is not a point of Rᵐ (:class:`Pose`) override it; J q̇ is then the rate of change of −e at a fixed
-        ξ*."""
+        ξ*, where ξ = ξ*."""
         return xi_desired - xi
 
     def check(self, robot: "MobileManipulator") -> None:
@@ -263,10 +263,11 @@ class Pose(Task):
     representation singularity: r wraps at θ = π, but the error and the Jacobian are continuous, and the
     Jacobian has full rank wherever the robot can turn the frame about every axis.
 
-    With J̄ η = ξ̇* + W e exactly (Bayle eq. 5–6 away from singularities), ė_p = −W_p e_p and, with E =
-    R* Rᵀ = exp(e_o), Ė Eᵀ = [ω* − E ω]× (the left Jacobian J_l(e_o) maps ė_o to it, J_l⁻¹(I − E) = −[e_o]×,
-    eᵀ J_l⁻¹ = eᵀ): for a gain W, d‖e‖²/dt = −2 eᵀ W e. The norm of the pose error decays at least as fast
-    as exp(−λ_min(W) t), whatever the reference's angular velocity.
+    With J̄ η = ξ̇* + W e exactly (Bayle eq. 5–6 away from singularities), ė_p = −(W e)_p and, with E =
+    R* Rᵀ = exp(e_o), Ė Eᵀ = [ω* − E ω]×; the left Jacobian J_l(e_o) of SO(3) maps ė_o to it, and with
+    J_l⁻¹(I − E) = −[e_o]× and e_oᵀ J_l⁻¹ = e_oᵀ, ė_o = ω* × e_o − J_l⁻¹ (W e)_o: d‖e‖²/dt = −2 eᵀ W e. The
+    norm of the pose error decays at least as fast as exp(−λ_min(W) t) (exactly so for a scalar W),
+    whatever the reference's angular velocity.
 
     ``link=-1`` is the tool frame; ``link=k`` the frame after joint k.
     """
