@@ -145,12 +145,20 @@ def test_korayem_mount_point_and_constraint_eq20_23():
 
 @pytest.mark.parametrize("robot", ALL, ids=lambda r: r.name)
 def test_geometric_jacobian_equals_autodiff_and_finite_differences(robot):
+    """J is the derivative of the error map q ↦ e(ξ(q), ξ(q0)) at q0: ∂ξ/∂q for the vector tasks."""
     q = _random_q(robot, 3)
     j = np.asarray(K.jacobian(robot, q))
-    auto = jax.vmap(jax.jacfwd(lambda qq: robot.task.value(robot, qq, robot.frames(qq))))(jnp.asarray(q))
+    task = robot.task
+
+    @jax.jit
+    def error_map(qq, xi0):
+        return task.error(task.value(robot, qq, robot.frames(qq)), xi0)
+
+    xi = jnp.asarray(K.forward(robot, q))
+    auto = jax.jit(jax.vmap(jax.jacfwd(error_map)))(jnp.asarray(q), xi)
     np.testing.assert_allclose(j, auto, atol=1e-12)
     for k in range(q.shape[0]):
-        fd = _finite_difference(lambda qq: K.forward(robot, qq), q[k])
+        fd = _finite_difference(lambda qq, k=k: error_map(jnp.asarray(qq), xi[k]), q[k])
         np.testing.assert_allclose(j[k], fd, atol=1e-7)
 
 

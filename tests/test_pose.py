@@ -309,10 +309,9 @@ def test_joint_limit_violations_are_reported(tracking):
 
 
 SPEC = """
-duration = 0.4
-dt = 0.05
-q0 = [0.0, 0.0, 0.0, 0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]
-integrator = "hold"
+duration = 6.0
+dt = 0.02
+q0 = [0.2, -0.1, 0.3, 0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]
 [robot]
 name = "panda-differential"
 [task]
@@ -323,30 +322,40 @@ start = [0.4, 0.0, 0.9]
 start_rotvec = [3.0, 0.0, 0.0]
 end = [0.6, 0.1, 0.8]
 end_rpy = [0.2, 1.5707963267948966, 0.4]
-duration = 0.4
+duration = 4.0
 [law]
 kind = "bayle"
+[criterion]
+kind = "manipulability"
 [gains]
 W = 2.0
+k = 0.3
 """
+"""The law, step and duration of the ``tracking`` run: the command reuses its compiled simulation."""
 
 
-def test_spec_pose_kinds(tmp_path, capsys):
+def test_spec_pose_kinds(tmp_path, capsys, tracking):
     parsed = spec.parse(tomllib.loads(SPEC))
     assert parsed.task == Pose()
     direct = references.PoseReference(
         ((0.4, 0.0, 0.9), [3.0, 0.0, 0.0]),
         ((0.6, 0.1, 0.8), Rotation.from_euler("xyz", [0.2, math.pi / 2, 0.4]).as_matrix()),
-        0.4,
+        4.0,
     )
-    for t in (0.0, 0.13, 0.4):
+    for t in (0.0, 1.3, 4.0):
         np.testing.assert_allclose(np.asarray(parsed.reference(t)[0]), np.asarray(direct(t)[0]), atol=1e-14)
         np.testing.assert_allclose(np.asarray(parsed.reference(t)[1]), np.asarray(direct(t)[1]), atol=1e-14)
     path = tmp_path / "pose.toml"
     path.write_text(SPEC)
     main(["simulate", str(path), "--json"])
     out = json.loads(capsys.readouterr().out)
-    assert out["joint_limit_violations"] >= 0 and len(out["q_final"]) == ROBOT.n_q
+    run = simulate(parsed.robot, parsed.task, parsed.law, parsed.reference, parsed.q0, 6.0, 0.02)
+    direct = metrics.summarize(run, parsed.robot)
+    for key in ("joint_limit_violations", "joint_limit_worst_joint"):
+        assert out[key] == direct[key]
+    for key in ("joint_limit_worst", "final_error"):
+        assert out[key] == pytest.approx(direct[key], rel=1e-12, abs=1e-15)
+    assert len(out["q_final"]) == ROBOT.n_q
 
 
 @pytest.mark.parametrize(
