@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import csv
-import math
 from pathlib import Path
 
 import numpy as np
 
 from mobman.errors import InputError
+from mobman.io.numbers import parse_number, parse_vector
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import build
 
@@ -20,12 +20,7 @@ def parse_params(items: list[str] | None) -> dict[str, float]:
         if "=" not in item:
             raise InputError(f"--param {item!r}: expected NAME=VALUE")
         name, value = item.split("=", 1)
-        try:
-            params[name.strip()] = float(value)
-        except ValueError:
-            raise InputError(f"--param {name.strip()}: {value!r} is not a number") from None
-        if not math.isfinite(params[name.strip()]):
-            raise InputError(f"--param {name.strip()}: value must be finite")
+        params[name.strip()] = parse_number(value, f"--param {name.strip()}")
     return params
 
 
@@ -38,28 +33,6 @@ def load_robot(name: str, params: list[str] | None = None) -> MobileManipulator:
             raise InputError("--param applies to built-in robots; edit the robot file instead")
         return robot_file.load(name)
     return build(name, **parse_params(params))
-
-
-def parse_vector(text: str, field: str, size: int | None = None) -> np.ndarray:
-    """``"0.1,0.2,pi/2"`` → array; accepts ``pi`` expressions; checks size and finiteness."""
-    values = []
-    for token in text.replace(";", ",").split(","):
-        token = token.strip()
-        if not token:
-            continue
-        try:
-            values.append(float(token))
-        except ValueError:
-            try:
-                values.append(float(eval(token, {"__builtins__": {}}, {"pi": math.pi})))  # noqa: S307
-            except Exception:
-                raise InputError(f"{field}: {token!r} is not a number") from None
-    arr = np.asarray(values, dtype=float)
-    if size is not None and arr.size != size:
-        raise InputError(f"{field}: expected {size} values, got {arr.size}")
-    if not np.all(np.isfinite(arr)):
-        raise InputError(f"{field}: values must be finite (no NaN or inf)")
-    return arr
 
 
 def read_configurations(path: Path, robot: MobileManipulator) -> np.ndarray:

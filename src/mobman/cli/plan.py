@@ -10,6 +10,7 @@ term of control i is 0.01·(−1)^i (the paper's λ01 = 0.01, λ02 = −0.01), o
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import jax.numpy as jnp
@@ -19,9 +20,10 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli import app
-from mobman.cli.common import load_robot, parse_vector
+from mobman.cli.common import load_robot
 from mobman.errors import InputError
 from mobman.io import dump_json
+from mobman.io.numbers import parse_vector
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, plan
@@ -29,40 +31,53 @@ from mobman.planning.basis import Fourier
 from mobman.planning.endpoint import PlanningSetting, dexterity
 from mobman.planning.figures import plot_convergence, plot_paths
 
-DEFAULT_EXTENSIONS = {"tchon-car-rtr": "q[6], q[2] + q[4]"}
-"""The paper's ȳ = (x3, q3 + x1) for the car + RTR arm (q = (q1, q2, q3, q4, x1, x2, x3), 0-based)."""
-
-_FUNCTIONS = {
-    "sin": jnp.sin,
-    "cos": jnp.cos,
-    "tan": jnp.tan,
-    "atan2": jnp.arctan2,
-    "sqrt": jnp.sqrt,
-    "pi": math.pi,
-}
+DEFAULT_EXTENSIONS = {"tchon-car-rtr": "x3, theta + x1"}
+"""The paper's ȳ = (x3, q3 + x1) for the car + RTR arm (q = (x, y, θ, φ, x1, x2, x3))."""
 
 
-def extension_task(text: str) -> FunctionTask:
-    """An output extension h(q) from comma-separated expressions of q (0-based, platform first)."""
-    items = [item.strip() for item in text.split(",") if item.strip()]
-    if not items:
-        raise InputError("--extension: give one or more expressions of q, e.g. 'q[6], q[2] + q[4]'")
-    code = []
+@dataclass(frozen=True)
+class CoordinateSums:
+    """h(q) = (Σ_{i ∈ group} q_i for each group): an output extension chosen by coordinates, not by code."""
+
+    groups: tuple[tuple[int, ...], ...]
+
+    def __call__(self, q):
+        return jnp.stack([sum((q[i] for i in group[1:]), q[group[0]]) for group in self.groups])
+
+
+def _coordinate(term: str, robot: MobileManipulator) -> int:
+    names = robot.coordinate_names
+    index_text = term[2:-1] if term.startswith("q[") and term.endswith("]") else term
+    if index_text.isdigit():
+        index = int(index_text)
+        if index >= robot.n_q:
+            raise InputError(
+                f"--extension: index {index} is out of range; {robot.name} has coordinates 0..{robot.n_q - 1} "
+                f"({', '.join(names)})"
+            )
+        return index
+    if term in names:
+        return names.index(term)
+    raise InputError(
+        f"--extension: {term!r} is not a coordinate of {robot.name}; give names ({', '.join(names)}) or "
+        f"0-based indices 0..{robot.n_q - 1}, joined by + for a sum"
+    )
+
+
+def extension_task(text: str, robot: MobileManipulator) -> FunctionTask:
+    """An output extension h(q) from a comma-separated list of coordinates of ``robot`` or sums of them:
+    each item is a coordinate name or 0-based index (``q[i]`` also accepted), ``a + b`` adds coordinates,
+    e.g. ``"x3, theta + x1"`` = ``"6, 2 + 4"`` = ``"q[6], q[2] + q[4]"`` for ``tchon-car-rtr``."""
+    items = [item.strip() for item in text.split(",")]
+    if not any(items):
+        raise InputError("--extension: give one or more coordinates of q, e.g. 'x3, theta + x1'")
+    groups = []
     for item in items:
-        try:
-            code.append(compile(item, "--extension", "eval"))
-        except SyntaxError:
-            raise InputError(f"--extension: {item!r} is not an expression of q") from None
-
-    def h(q):
-        return jnp.stack(
-            [
-                jnp.asarray(eval(c, {"__builtins__": {}}, {**_FUNCTIONS, "q": q}))  # noqa: S307
-                for c in code
-            ]
-        )
-
-    return FunctionTask(h, tuple(items))
+        terms = [term.strip() for term in item.split("+")]
+        if not all(terms):
+            raise InputError(f"--extension: {item!r} has an empty item; expected coordinates joined by +")
+        groups.append(tuple(_coordinate(term, robot) for term in terms))
+    return FunctionTask(CoordinateSums(tuple(groups)), tuple(items))
 
 
 def initial_configuration(setting: PlanningSetting, x0: np.ndarray) -> np.ndarray:
@@ -105,7 +120,9 @@ def plan_command(
     tol: float = typer.Option(1e-12, "--tol", help="Stop when ‖K − y_d‖ ≤ tol."),
     max_iterations: int = typer.Option(200, "--max-iterations", help="Iteration cap."),
     extension: str | None = typer.Option(
-        None, "--extension", help="Output extension h(q) for 'extended', e.g. 'q[6], q[2]+q[4]'."
+        None,
+        "--extension",
+        help="Output extension for 'extended': coordinates (names or 0-based indices) or sums, e.g. 'x3, theta+x1'.",
     ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
@@ -131,8 +148,10 @@ def plan_command(
     if algorithm == "extended":
         text = extension if extension is not None else DEFAULT_EXTENSIONS.get(robot_name)
         if text is None:
-            raise InputError("--algorithm extended needs --extension (expressions of q) for this robot")
-        ext = extension_task(text)
+            raise InputError(
+                "--algorithm extended needs --extension (coordinates of q, e.g. '2, 3+4') for this robot"
+            )
+        ext = extension_task(text, robot)
     options = Options(
         algorithm, _step(step), gamma=gamma, tol=tol, max_iterations=max_iterations, extension=ext
     )
