@@ -6,7 +6,9 @@ import csv
 from pathlib import Path
 
 import numpy as np
+import typer
 
+from mobman.cli import NOT_REACHED
 from mobman.errors import InputError
 from mobman.io.numbers import parse_number, parse_vector
 from mobman.model.robot import MobileManipulator
@@ -22,6 +24,13 @@ def parse_params(items: list[str] | None) -> dict[str, float]:
         name, value = item.split("=", 1)
         params[name.strip()] = parse_number(value, f"--param {name.strip()}")
     return params
+
+
+def not_reached(command: str, reason: str) -> None:
+    """End a run that finished without reaching its goal: one warning line and exit status 3 (its results
+    are already printed and written)."""
+    typer.echo(f"warning: mobman {command}: {reason}", err=True)
+    raise typer.Exit(NOT_REACHED)
 
 
 def load_robot(name: str, params: list[str] | None = None) -> MobileManipulator:

@@ -57,10 +57,12 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli import app
+from mobman.cli.common import not_reached
 from mobman.control.spec import parse as parse_control
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io import spec as fields
+from mobman.io.output import check_folder, results_folder, save_figure, write_text
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
@@ -259,6 +261,8 @@ def load_capacity_command(
     from mobman.dynamics.load_capacity import eta_dot_from_samples, max_load
 
     spec = load(spec_path)
+    if out is not None:
+        check_folder(out, "load-capacity")
     eta_dot = eta_dot_from_samples(spec.t, spec.eta)
     result = max_load(spec.model, spec.t, spec.q, spec.eta, eta_dot, spec.actuators)
     summary = {
@@ -270,7 +274,6 @@ def load_capacity_command(
     if out is not None:
         from mobman.viz import plot_torques
 
-        out.mkdir(parents=True, exist_ok=True)
         series = {
             "t": result.t,
             "tau0": result.tau0,
@@ -280,12 +283,22 @@ def load_capacity_command(
             "upper": result.upper,
             "actuators": list(result.names),
         }
-        (out / "results.json").write_text(dump_json({**summary, "series": series}))
         title = f"{spec_path.name}: required torques vs envelopes"
-        plot_torques(result, title).savefig(out / "torques.png", dpi=120)
+        with results_folder(out, "load-capacity") as staging:
+            write_text(staging / "results.json", dump_json({**summary, "series": series}))
+            save_figure(plot_torques(result, title), staging / "torques.png", dpi=120)
     if json_output:
         typer.echo(dump_json(summary))
-        return
+    else:
+        _print(spec_path, spec, result, summary, out)
+    envelope = (result.tau0, result.tau1, result.lower, result.upper)
+    if not result.bounded and not all(np.all(np.isfinite(a)) for a in envelope):
+        not_reached(
+            "load-capacity", "unbounded because some torques or envelopes are not finite (check the data)"
+        )
+
+
+def _print(spec_path: Path, spec: LoadSpec, result, summary: dict, out: Path | None) -> None:
     load_text = (
         f"{result.max_load:.4f} kg"
         if result.bounded

@@ -20,10 +20,11 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli import app
-from mobman.cli.common import load_robot
+from mobman.cli.common import load_robot, not_reached
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
+from mobman.io.output import check_folder, results_folder
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, plan
@@ -136,6 +137,8 @@ def plan_command(
     if harmonics < 0:
         raise InputError(f"--harmonics must be ≥ 0, got {harmonics}")
     robot = load_robot(robot_name, params)
+    if out is not None:
+        check_folder(out, "plan")
     setting = PlanningSetting(robot, Fourier(harmonics), horizon=horizon)
     y_d = parse_vector(target, "--target", setting.output.dim)
     q0 = (
@@ -177,26 +180,25 @@ def plan_command(
         "error_history": result.errors,
     }
     if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
-        report["figures"] = [
-            str(p)
-            for p in (
-                plot_paths(
-                    setting,
-                    result.z,
-                    q0,
-                    y_d,
-                    f"{robot_name}: {algorithm}, {result.status}",
-                    out / "paths.png",
-                ),
-                plot_convergence(
-                    {algorithm: result.errors}, tol, f"{robot_name}: convergence", out / "convergence.png"
-                ),
+        with results_folder(out, "plan") as staging:
+            title = f"{robot_name}: {algorithm}, {result.status}"
+            plot_paths(setting, result.z, q0, y_d, title, staging / "paths.png")
+            plot_convergence(
+                {algorithm: result.errors}, tol, f"{robot_name}: convergence", staging / "convergence.png"
             )
-        ]
+        report["figures"] = [str(out / "paths.png"), str(out / "convergence.png")]
     if json_output:
         typer.echo(dump_json(report))
-        return
+    else:
+        _print(report, result, options, robot_name, algorithm)
+    if not result.converged:
+        not_reached(
+            "plan",
+            f"{result.status} after {result.iterations} iterations, final error {result.final_error:.3e}",
+        )
+
+
+def _print(report: dict, result, options: Options, robot_name: str, algorithm: str) -> None:
     table = Table(title=f"mobman plan {robot_name} ({algorithm}, Δθ = {options.step})")
     table.add_column("quantity")
     table.add_column("value", overflow="fold")
