@@ -32,6 +32,12 @@ from mobman.planning.basis import Fourier
 from mobman.planning.endpoint import PlanningSetting, dexterity
 from mobman.planning.figures import plot_convergence, plot_paths
 
+MAX_HARMONICS = 100
+"""Largest accepted --harmonics (2·100 + 1 coefficients per control)."""
+
+MAX_ITERATIONS = 100_000
+"""Largest accepted --max-iterations."""
+
 DEFAULT_EXTENSIONS = {"tchon-car-rtr": "x3, theta + x1"}
 """The paper's ȳ = (x3, q3 + x1) for the car + RTR arm (q = (x, y, θ, φ, x1, x2, x3))."""
 
@@ -134,8 +140,10 @@ def plan_command(
         raise InputError(f"--algorithm must be one of {', '.join(ALGORITHMS)}, got {algorithm!r}")
     if not (math.isfinite(horizon) and horizon > 0):
         raise InputError(f"--horizon must be a finite number > 0, got {horizon}")
-    if harmonics < 0:
-        raise InputError(f"--harmonics must be ≥ 0, got {harmonics}")
+    if not 0 <= harmonics <= MAX_HARMONICS:
+        raise InputError(f"--harmonics must be in 0..{MAX_HARMONICS}, got {harmonics}")
+    if not 1 <= max_iterations <= MAX_ITERATIONS:
+        raise InputError(f"--max-iterations must be in 1..{MAX_ITERATIONS}, got {max_iterations}")
     robot = load_robot(robot_name, params)
     if out is not None:
         check_folder(out, "plan")

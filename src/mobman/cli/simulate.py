@@ -11,7 +11,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
 from mobman.cli import app
-from mobman.cli.common import not_reached
+from mobman.cli.common import MAX_STEPS, check_steps, not_reached
 from mobman.io import dump_json
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
 
@@ -19,12 +19,22 @@ PROGRESS_STEPS = 5000
 """Runs with more steps than this show a progress bar (computed in compiled chunks)."""
 
 
+def _steps(spec) -> int:
+    return int(round(spec.duration / spec.dt)) + 1
+
+
+def _values_per_step(spec) -> int:
+    """Floats stored per time step: q, η (and the law's diagnostics), ξ, ξ*, the error, the measures."""
+    robot = spec.robot
+    return 2 * robot.n_q + 3 * robot.n_eta + 3 * spec.task.dim + len(spec.measures) + 4
+
+
 def _run(spec, quiet: bool):
     from mobman.control import simulate
 
     args = (spec.robot, spec.task, spec.law, spec.reference, spec.q0, spec.duration, spec.dt)
     kwargs = {"measures": spec.measures, "integrator": spec.integrator}
-    steps = int(round(spec.duration / spec.dt)) + 1
+    steps = _steps(spec)
     if quiet or steps <= PROGRESS_STEPS:
         return simulate(*args, **kwargs)
     columns = (
@@ -72,11 +82,15 @@ def simulate_command(
     spec_path: Path = typer.Argument(..., metavar="SPEC.toml", help="TOML specification (docs/control.md)."),
     out: Path | None = typer.Option(None, "--out", help="Write results.json and figures into this folder."),
     json_output: bool = typer.Option(False, "--json", help="Print the metrics as one JSON object."),
+    max_steps: int = typer.Option(
+        MAX_STEPS, "--max-steps", help="Refuse runs of more time steps than this (duration / dt)."
+    ),
 ) -> None:
     """Simulate a control law tracking an operational reference; print the run's metrics."""
     from mobman.control import metrics, spec
 
     parsed = spec.load(spec_path)
+    check_steps(_steps(parsed), _values_per_step(parsed), "duration / dt", max_steps)
     if out is not None:
         check_folder(out, "simulate")
     result = _run(parsed, quiet=json_output)

@@ -305,7 +305,9 @@ def parse(data: dict, base: Path | None = None) -> Spec:
 
 def load(path: Path) -> Spec:
     """Read and parse a TOML specification file."""
-    return parse(fields.read_toml(path), Path(path).parent)
+    data = fields.read_toml(path)
+    with fields.naming(path):
+        return parse(data, Path(path).parent)
 
 
 __all__ = ["Spec", "load", "parse"]

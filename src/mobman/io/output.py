@@ -94,11 +94,15 @@ def check_folder(out: Path | str, command: str, field: str = "--out") -> Path:
             raise InputError(
                 f"{field} {out}: holds the results of mobman {owner}, not {command}; choose another folder"
             )
-    parent = out.parent if not out.exists() else out
+    parent = out.parent
     while not parent.exists():
         parent = parent.parent
-    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"{field} {out}: cannot write into {parent} (permission denied)")
+    if not parent.is_dir():
+        raise InputError(f"{field} {out}: {parent} is not a folder")
+    try:  # the results are written into a sibling of ``out``: probe that folder, leaving nothing behind
+        os.rmdir(tempfile.mkdtemp(dir=parent, prefix=".mobman-probe-"))
+    except OSError as exc:
+        raise InputError(f"{field} {out}: cannot write into {parent} ({exc.strerror or exc})") from None
     return out
 
 
