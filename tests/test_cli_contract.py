@@ -4,6 +4,10 @@ exit 2 (nothing touched), exit codes 1 / 3 / 130, budgets checked before work.""
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -141,7 +145,11 @@ def test_hostile_spec_files_are_one_line_naming_file_and_key(tmp_path, capsys, o
 
 @pytest.mark.parametrize(
     ("content", "needle"),
-    [(b"\x00\xff\xfe\x00", "binary content"), (b"0,0,0,0.3,\xe9", "not UTF-8"), (b"x,y,theta,q4,q5\n0,0,,0.3,1", "row 1")],
+    [
+        (b"\x00\xff\xfe\x00", "binary content"),
+        (b"0,0,0,0.3,\xe9", "not UTF-8"),
+        (b"x,y,theta,q4,q5\n0,0,,0.3,1", "row 1"),
+    ],
 )
 def test_hostile_configuration_files(tmp_path, capsys, content, needle):
     path = tmp_path / "q.csv"
@@ -244,3 +252,41 @@ def test_huge_runs_are_refused_before_any_work(tmp_path, capsys, steps):
     if steps == 10**12:  # about 2 PB: more than any machine's memory
         code, _, err = run(["simulate", str(path), "--max-steps", str(10 * steps)], capsys)
         assert code == 2 and "available" in one_line(err)
+
+
+SLOW_WRITER = """
+import sys, time
+import mobman.cli.simulate as command
+from mobman.cli import main
+
+def stalled(*args, **kwargs):
+    print("writing", flush=True)  # results.json of the new run is written, the figures are not
+    time.sleep(120)
+
+command.save_figure = stalled
+main(sys.argv[1:])
+"""
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
+def test_a_run_killed_while_writing_its_folder_leaves_the_old_results(tmp_path, sig):
+    from mobman.io.output import MARKER
+
+    (tmp_path / "spec.toml").write_text(SPEC)
+    out = tmp_path / "run"
+    out.mkdir()
+    for name, text in ((MARKER, "simulate\n"), ("results.json", "old"), ("paths.png", "old figure")):
+        (out / name).write_text(text)
+    before = snapshot(out)
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    args = [sys.executable, "-c", SLOW_WRITER, "simulate", str(tmp_path / "spec.toml"), "--out", str(out)]
+    process = subprocess.Popen(args, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert process.stdout.readline().strip() == "writing"
+    process.send_signal(sig)
+    _, err = process.communicate(timeout=60)
+    assert snapshot(out) == before
+    if sig == signal.SIGINT:
+        assert process.returncode == 130 and one_line(err).startswith("interrupted: mobman simulate")
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["run", "spec.toml"]
+    else:
+        assert process.returncode == -signal.SIGKILL
