@@ -36,6 +36,11 @@ app = typer.Typer(
 from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate  # noqa: E402,F401
 
 
+def _one_line(text: str) -> str:
+    """``text`` on one line: every line break (also those of a file's odd key names) becomes a space."""
+    return " ".join(text.split())
+
+
 def _command(argv: list[str] | None) -> str:
     words = sys.argv[1:] if argv is None else argv
     return next((w for w in words if not w.startswith("-")), "")
@@ -47,7 +52,7 @@ def main(argv: list[str] | None = None) -> None:
     try:
         code = app(args=argv, standalone_mode=False)
     except MobmanError as exc:
-        typer.echo(f"error: {exc}", err=True)
+        typer.echo(f"error: {_one_line(str(exc))}", err=True)
         sys.exit(2)
     except typer.Abort:
         typer.echo("aborted", err=True)
@@ -59,12 +64,12 @@ def main(argv: list[str] | None = None) -> None:
         # so that no particular click import path is assumed.
         format_message = getattr(exc, "format_message", None)
         if callable(format_message):
-            typer.echo(f"error: {format_message()}", err=True)
+            typer.echo(f"error: {_one_line(format_message())}", err=True)
             sys.exit(2)
         exit_code = getattr(exc, "exit_code", None)
         if isinstance(exit_code, int):
             sys.exit(exit_code)
-        text = " ".join(str(exc).split()) or "(no message)"
+        text = _one_line(str(exc)) or "(no message)"
         typer.echo(
             f"error: mobman {command} failed unexpectedly ({type(exc).__name__}: {text[:300]}); please report "
             "this with the command line that produced it",

@@ -105,7 +105,7 @@ def _platform(entries: dict):
 
 def parse(data: dict, source: str = "robot file") -> MobileManipulator:
     """A :class:`MobileManipulator` from a parsed robot description (see the module docstring)."""
-    fields.keys(data, source, ("name", "task", "platform", "arms"))
+    fields.keys(data, "", ("name", "task", "platform", "arms"))
     platform = _platform(fields.table(data, "platform", "platform"))
     arms = data.get("arms")
     if not isinstance(arms, list) or not arms:
@@ -128,4 +128,4 @@ def load(path: Path | str) -> MobileManipulator:
     """Read a robot description file."""
     data = fields.read_toml(Path(path))
     with fields.naming(path):
-        return parse(data, str(path))
+        return parse(data)

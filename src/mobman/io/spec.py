@@ -105,7 +105,8 @@ def keys(entries: dict, field: str, allowed: tuple[str, ...]) -> None:
         if key not in allowed:
             close = difflib.get_close_matches(str(key), allowed, n=1)
             hint = f"did you mean {close[0]!r}? " if close else ""
-            raise InputError(f"{field}.{key}: unknown key; {hint}allowed: {', '.join(allowed)}")
+            name = f"{field}.{key}" if field else str(key)
+            raise InputError(f"{name}: unknown key; {hint}allowed: {', '.join(allowed)}")
 
 
 def kind(entries: dict, field: str, kinds: dict) -> Any:
