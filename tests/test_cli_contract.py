@@ -290,3 +290,10 @@ def test_a_run_killed_while_writing_its_folder_leaves_the_old_results(tmp_path, 
         assert sorted(p.name for p in tmp_path.iterdir()) == ["run", "spec.toml"]
     else:
         assert process.returncode == -signal.SIGKILL
+
+
+def test_every_exit_status_is_documented_in_the_readme():
+    from mobman.cli import EXIT_CODES
+
+    readme = (ROOT / "README.md").read_text()
+    assert all(f"\n| {code} | " in readme for code in EXIT_CODES)
