@@ -174,7 +174,7 @@ def array(value, name: str) -> np.ndarray:
     pending = [value]
     while pending:
         item = pending.pop()
-        if isinstance(item, (list, np.ndarray)):
+        if isinstance(item, (list, tuple, np.ndarray)):
             pending.extend(item.ravel().tolist() if isinstance(item, np.ndarray) else item)
         elif isinstance(item, bool) or not isinstance(item, (int, float)):
             raise InputError(f"{name}: must be a number or an array of numbers, got {_shown(value)}")
