@@ -297,3 +297,36 @@ def test_every_exit_status_is_documented_in_the_readme():
 
     readme = (ROOT / "README.md").read_text()
     assert all(f"\n| {code} | " in readme for code in EXIT_CODES)
+
+
+def test_reproduce_replaces_a_paper_folder_only_when_complete(tmp_path, capsys, monkeypatch):
+    from types import SimpleNamespace
+
+    from mobman.experiments.report import Reproduction
+
+    def paper(figure: str, interrupt: bool):
+        def run(out, quick=False):
+            (out / "figure.png").write_text(figure)
+            if interrupt:
+                raise KeyboardInterrupt
+            return Reproduction("tchon2002", "title", {"figure": figure}, "report")
+
+        return lambda name: SimpleNamespace(run=run)
+
+    out = tmp_path / "results"
+    monkeypatch.setattr("mobman.cli.reproduce.module", paper("old", interrupt=False))
+    assert run(["reproduce", "tchon2002", "--out", str(out)], capsys)[0] == 0
+    before = snapshot(out)
+    assert before["tchon2002/figure.png"] == b"old" and json.loads(before["tchon2002/results.json"]) == {
+        "figure": "old"
+    }
+    monkeypatch.setattr("mobman.cli.reproduce.module", paper("new", interrupt=True))
+    code, _, err = run(["reproduce", "tchon2002", "--out", str(out)], capsys)
+    assert code == 130 and one_line(err).startswith("interrupted: mobman reproduce")
+    assert snapshot(out) == before and sorted(p.name for p in out.iterdir()) == [
+        ".mobman-results",
+        "tchon2002",
+    ]
+    monkeypatch.setattr("mobman.cli.reproduce.module", paper("new", interrupt=False))
+    assert run(["reproduce", "tchon2002", "--out", str(out)], capsys)[0] == 0
+    assert snapshot(out)["tchon2002/figure.png"] == b"new"
