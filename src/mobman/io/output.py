@@ -81,6 +81,10 @@ def _owner(folder: Path) -> str | None:
 def check_folder(out: Path | str, command: str, field: str = "--out") -> Path:
     """Refuse (InputError) an output folder ``out`` that ``command`` may not write; see the module docstring."""
     out = Path(out)
+    if Path(os.path.abspath(out)) in (Path.cwd(), *Path.cwd().parents):
+        raise InputError(
+            f"{field} {out}: the current folder or one above it; name a results folder inside it"
+        )
     if out.exists() and not out.is_dir():
         raise InputError(f"{field} {out}: exists and is not a folder; choose a new or empty folder")
     if out.is_dir() and any(out.iterdir()):
