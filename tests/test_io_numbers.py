@@ -96,3 +96,19 @@ def test_the_package_never_evaluates_text():
             for name, line in _builtin_calls(tree, {"eval", "exec", "compile", "__import__"})
         ]
     assert not found, found
+
+
+def test_no_module_below_the_command_line_imports_it():
+    """Number parsing lives in mobman.io: the library (control specs, robot files …) never imports mobman.cli."""
+    offenders = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        if path.relative_to(PACKAGE).parts[0] == "cli":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else []
+            if isinstance(node, ast.ImportFrom) and node.module:
+                names = [node.module]
+            offenders += [
+                f"{path.relative_to(PACKAGE)}: {n}" for n in names if n.split(".")[:2] == ["mobman", "cli"]
+            ]
+    assert not offenders, offenders
