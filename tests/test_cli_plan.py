@@ -56,3 +56,38 @@ def test_bad_input_is_one_line_and_exit_2(args, message, capsys):
     assert code == 2
     lines = captured.err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error:") and message in lines[0]
+
+
+def test_extension_is_a_choice_of_coordinates_or_sums():
+    import numpy as np
+
+    from mobman.cli.plan import DEFAULT_EXTENSIONS, extension_task
+    from mobman.model.robots import tchon_car_rtr
+
+    robot = tchon_car_rtr()
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, robot.n_q)
+    for text in (DEFAULT_EXTENSIONS["tchon-car-rtr"], "6, 2 + 4", "q[6], q[2]+q[4]"):
+        task = extension_task(text, robot)
+        np.testing.assert_array_equal(np.asarray(task.fn(q)), [q[6], q[2] + q[4]])
+        assert task.dim == 2
+
+
+@pytest.mark.parametrize(
+    ("extension", "needle"),
+    [
+        ("q[100]", "index 100 is out of range"),
+        ("7", "index 7 is out of range"),
+        ("x3, elbow", "'elbow' is not a coordinate"),
+        ("sin(q[0])", "is not a coordinate"),
+        ("().__class__.__base__.__subclasses__()", "is not a coordinate"),
+        ("x3,, x1", "empty"),
+        ("x3 + ", "empty"),
+        (" , ", "one or more coordinates"),
+    ],
+)
+def test_bad_extension_is_one_line_and_exit_2(extension, needle, capsys):
+    args = ["--target", "0,0,1", "--algorithm", "extended", "--extension", extension]
+    code, captured = _run(["plan", "tchon-car-rtr", *args], capsys)
+    assert code == 2
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and "--extension" in lines[0] and needle in lines[0]

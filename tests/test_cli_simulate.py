@@ -82,11 +82,12 @@ def test_simulate_json_and_out(tmp_path, capsys):
 def test_invalid_spec_is_one_line_exit_2(tmp_path, capsys, old, new, field):
     text = EXAMPLE.read_text()
     assert old in text
+    path = _spec(tmp_path, text.replace(old, new))
     with pytest.raises(SystemExit) as exc:
-        main(["simulate", str(_spec(tmp_path, text.replace(old, new)))])
+        main(["simulate", str(path)])
     assert exc.value.code == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and err.startswith(f"error: {field}")
+    assert len(err.splitlines()) == 1 and err.startswith(f"error: {path}: {field}")
 
 
 def test_unreadable_spec(tmp_path, capsys):

@@ -1,7 +1,7 @@
 """The ``mobman`` command: one Typer application, one module per command group.
 
 Every :class:`mobman.MobmanError` (and a bad option value) ends as one line on standard error and exit
-status 2, never a traceback.
+status 2, never a traceback; see :data:`EXIT_CODES` for the others.
 """
 
 from __future__ import annotations
@@ -11,6 +11,18 @@ import sys
 import typer
 
 from mobman.errors import MobmanError
+
+EXIT_CODES = {
+    0: "success",
+    1: "unexpected failure (one line naming the command; please report it)",
+    2: "bad input: an option, a file or an output folder (one line naming the field)",
+    3: "the run finished without reaching its goal (not converged, saturated, unbounded); results written",
+    130: "interrupted (Ctrl-C); partial output removed",
+}
+"""Exit status of the ``mobman`` command."""
+
+NOT_REACHED = 3
+INTERRUPTED = 130
 
 app = typer.Typer(
     name="mobman",
@@ -24,24 +36,47 @@ app = typer.Typer(
 from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate  # noqa: E402,F401
 
 
+def _one_line(text: str) -> str:
+    """``text`` on one line: every line break (also those of a file's odd key names) becomes a space."""
+    return " ".join(text.split())
+
+
+def _command(argv: list[str] | None) -> str:
+    words = sys.argv[1:] if argv is None else argv
+    return next((w for w in words if not w.startswith("-")), "")
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Entry point of the console script."""
+    """Entry point of the console script; the exit status is that of :data:`EXIT_CODES`."""
+    command = _command(argv)
     try:
-        app(args=argv, standalone_mode=False)
+        code = app(args=argv, standalone_mode=False)
     except MobmanError as exc:
-        typer.echo(f"error: {exc}", err=True)
+        typer.echo(f"error: {_one_line(str(exc))}", err=True)
         sys.exit(2)
     except typer.Abort:
         typer.echo("aborted", err=True)
         sys.exit(1)
+    except KeyboardInterrupt:
+        code = INTERRUPTED
     except Exception as exc:
         # Usage errors of the CLI library (click, vendored by recent Typer) are recognised by their interface,
         # so that no particular click import path is assumed.
         format_message = getattr(exc, "format_message", None)
         if callable(format_message):
-            typer.echo(f"error: {format_message()}", err=True)
+            typer.echo(f"error: {_one_line(format_message())}", err=True)
             sys.exit(2)
         exit_code = getattr(exc, "exit_code", None)
         if isinstance(exit_code, int):
             sys.exit(exit_code)
-        raise
+        text = _one_line(str(exc)) or "(no message)"
+        typer.echo(
+            f"error: mobman {command} failed unexpectedly ({type(exc).__name__}: {text[:300]}); please report "
+            "this with the command line that produced it",
+            err=True,
+        )
+        sys.exit(1)
+    if code == INTERRUPTED:
+        typer.echo(f"interrupted: mobman {command} stopped; partial output removed", err=True)
+    if isinstance(code, int) and code:
+        sys.exit(code)

@@ -24,9 +24,10 @@ from mobman import kinematics as K
 from mobman import manipulability as mp
 from mobman import redundancy
 from mobman.cli import app
-from mobman.cli.common import load_robot, parse_vector, read_configurations
+from mobman.cli.common import load_robot, read_configurations
 from mobman.errors import InputError
 from mobman.io import dump_json
+from mobman.io.numbers import parse_vector
 from mobman.model.robot import MobileManipulator
 
 LEVELS = ("arm", "system", "system_normalized")

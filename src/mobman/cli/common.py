@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import csv
-import math
+import os
 from pathlib import Path
 
 import numpy as np
+import typer
 
+from mobman.cli import NOT_REACHED
 from mobman.errors import InputError
+from mobman.io.numbers import parse_number, parse_vector
+from mobman.io.spec import read_text
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import build
 
@@ -20,13 +24,64 @@ def parse_params(items: list[str] | None) -> dict[str, float]:
         if "=" not in item:
             raise InputError(f"--param {item!r}: expected NAME=VALUE")
         name, value = item.split("=", 1)
-        try:
-            params[name.strip()] = float(value)
-        except ValueError:
-            raise InputError(f"--param {name.strip()}: {value!r} is not a number") from None
-        if not math.isfinite(params[name.strip()]):
-            raise InputError(f"--param {name.strip()}: value must be finite")
+        params[name.strip()] = parse_number(value, f"--param {name.strip()}")
     return params
+
+
+MAX_STEPS = 10**6
+"""Default limit of the time steps of one run (``--max-steps`` raises it)."""
+
+BYTES_PER_VALUE = 64
+"""Memory estimate per stored float of a run: the value (8 bytes), the compiled loop's copies and the JSON text
+of ``results.json``."""
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new run (MemAvailable of /proc/meminfo, else the free physical pages)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, OSError, ValueError):
+        return None
+
+
+def check_steps(steps: int, values_per_step: int, field: str, max_steps: int = MAX_STEPS) -> None:
+    """Refuse, before any work, a run of ``steps`` time steps storing ``values_per_step`` floats each that
+    exceeds ``max_steps`` (InputError naming ``--max-steps``) or the machine's available memory."""
+    need = steps * values_per_step * BYTES_PER_VALUE
+    estimate = f"{steps:.3g} steps, about {_size(need)} of memory"
+    if steps > max_steps:
+        raise InputError(
+            f"{field}: {estimate}: more than the limit of {max_steps:.3g} steps; use a larger dt or a shorter "
+            "duration, or raise the limit with --max-steps"
+        )
+    available = available_memory()
+    if available is not None and need > available:
+        raise InputError(
+            f"{field}: {estimate}: more than the {_size(available)} available; use a larger dt or a shorter "
+            "duration"
+        )
+
+
+def _size(n: float) -> str:
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if n < 1024 or unit == "PiB":
+            return f"{n:.3g} {unit}"
+        n /= 1024
+    return f"{n:.3g} EiB"
+
+
+def not_reached(command: str, reason: str) -> None:
+    """End a run that finished without reaching its goal: one warning line and exit status 3 (its results
+    are already printed and written)."""
+    typer.echo(f"warning: mobman {command}: {reason}", err=True)
+    raise typer.Exit(NOT_REACHED)
 
 
 def load_robot(name: str, params: list[str] | None = None) -> MobileManipulator:
@@ -40,35 +95,13 @@ def load_robot(name: str, params: list[str] | None = None) -> MobileManipulator:
     return build(name, **parse_params(params))
 
 
-def parse_vector(text: str, field: str, size: int | None = None) -> np.ndarray:
-    """``"0.1,0.2,pi/2"`` → array; accepts ``pi`` expressions; checks size and finiteness."""
-    values = []
-    for token in text.replace(";", ",").split(","):
-        token = token.strip()
-        if not token:
-            continue
-        try:
-            values.append(float(token))
-        except ValueError:
-            try:
-                values.append(float(eval(token, {"__builtins__": {}}, {"pi": math.pi})))  # noqa: S307
-            except Exception:
-                raise InputError(f"{field}: {token!r} is not a number") from None
-    arr = np.asarray(values, dtype=float)
-    if size is not None and arr.size != size:
-        raise InputError(f"{field}: expected {size} values, got {arr.size}")
-    if not np.all(np.isfinite(arr)):
-        raise InputError(f"{field}: values must be finite (no NaN or inf)")
-    return arr
-
-
 def read_configurations(path: Path, robot: MobileManipulator) -> np.ndarray:
     """Configurations from a CSV file: one per row in the robot's coordinate order, optional header line."""
+    text = read_text(path, f"--q-file {path}")
     try:
-        with open(path, newline="") as handle:
-            rows = [row for row in csv.reader(handle) if row and any(cell.strip() for cell in row)]
-    except OSError as exc:
-        raise InputError(f"--q-file {path}: cannot read ({exc.strerror})") from None
+        rows = [row for row in csv.reader(text.splitlines()) if row and any(cell.strip() for cell in row)]
+    except csv.Error as exc:
+        raise InputError(f"--q-file {path}: not a CSV file ({exc})") from None
     if rows and not _numeric(rows[0]):
         header = [c.strip() for c in rows[0]]
         if header != list(robot.coordinate_names):

@@ -57,10 +57,12 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli import app
+from mobman.cli.common import MAX_STEPS, check_steps, not_reached
 from mobman.control.spec import parse as parse_control
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io import spec as fields
+from mobman.io.output import check_folder, results_folder, save_figure, write_text
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
@@ -174,9 +176,9 @@ def _actuators(data: dict, names: tuple[str, ...]) -> dict:
             raise InputError(f"{field}: unknown actuator; the actuators are {', '.join(names)}")
         if not isinstance(entry, dict):
             raise InputError(f"{field}: must be a table with kind = dc_motor | torque_box")
-        kind = entry.get("kind")
-        if kind not in ACTUATOR_KINDS:
-            raise InputError(f"{field}.kind: {kind!r} not one of {', '.join(ACTUATOR_KINDS)}")
+        kind = fields.text(entry, "kind", field, allowed=tuple(ACTUATOR_KINDS))
+        if kind is None:
+            raise InputError(f"{field}.kind: missing; one of {', '.join(ACTUATOR_KINDS)}")
         keys = ACTUATOR_KINDS[kind]
         fields.keys(entry, field, ("kind",) + keys)
         factory = DCMotor if kind == "dc_motor" else TorqueBox
@@ -184,7 +186,7 @@ def _actuators(data: dict, names: tuple[str, ...]) -> dict:
     return result
 
 
-def _motion(data: dict, robot):
+def _motion(data: dict, robot, max_steps: int):
     """(t, q, η, description) of the motion table."""
     from mobman.control import simulate
 
@@ -200,11 +202,12 @@ def _motion(data: dict, robot):
             )
         case = table.get("case")
         cases = {m.number: m for m in korayem_kinematics.models()}
-        if case not in cases:
+        if isinstance(case, bool) or not isinstance(case, int) or case not in cases:
             raise InputError(f"motion.case: 1 (extra task α, β) or 2 (extra task F), got {case!r}")
         dt = fields.number(table, "dt", "motion", 0.01, positive=True)
         if dt > 0.1:
             raise InputError(f"motion.dt: at most 0.1 s (the motion lasts 2 s), got {dt}")
+        check_steps(int(round(2.0 / dt)) + 1, 3 * (robot.n_q + robot.n_eta), "motion.dt", max_steps)
         run = korayem_kinematics.run_model(robot, cases[case], dt)
         return run.t, run.q, run.eta, f"Korayem case {case}, dt = {dt} s"
     if kind == "control":
@@ -216,6 +219,8 @@ def _motion(data: dict, robot):
             spec = parse_control({**control, "robot": data["robot"]})
         except InputError as exc:
             raise InputError(f"motion.control: {exc}") from None
+        steps = int(round(spec.duration / spec.dt)) + 1
+        check_steps(steps, 3 * (robot.n_q + robot.n_eta), "motion.control: duration / dt", max_steps)
         run = simulate(
             spec.robot,
             spec.task,
@@ -230,19 +235,21 @@ def _motion(data: dict, robot):
     raise InputError(f"motion.kind: {kind!r} not one of korayem, control")
 
 
-def parse(data: dict, base: Path | None = None) -> LoadSpec:
+def parse(data: dict, base: Path | None = None, max_steps: int = MAX_STEPS) -> LoadSpec:
     """Build a :class:`LoadSpec` from a TOML document already read into a dict (the motion is simulated)."""
     fields.keys(data, "spec", TOP_KEYS)
     robot = fields.robot(data, base)
     model = _inertials(data, robot)
     actuators = _actuators(data, model.actuator_names)
-    t, q, eta, motion = _motion(data, model.robot)
+    t, q, eta, motion = _motion(data, model.robot, max_steps)
     return LoadSpec(model, t, q, eta, actuators, motion)
 
 
-def load(path: Path) -> LoadSpec:
+def load(path: Path, max_steps: int = MAX_STEPS) -> LoadSpec:
     """Read, parse and simulate a load-capacity specification."""
-    return parse(fields.read_toml(path), Path(path).parent)
+    data = fields.read_toml(path)
+    with fields.naming(path):
+        return parse(data, Path(path).parent, max_steps)
 
 
 @app.command("load-capacity")
@@ -254,11 +261,16 @@ def load_capacity_command(
         None, "--out", help="Write results.json and torques.png into this folder."
     ),
     json_output: bool = typer.Option(False, "--json", help="Print the result as one JSON object."),
+    max_steps: int = typer.Option(
+        MAX_STEPS, "--max-steps", help="Refuse motions of more time steps than this (duration / dt)."
+    ),
 ) -> None:
     """Maximum payload mass keeping every actuator inside its torque–speed envelope along the motion."""
     from mobman.dynamics.load_capacity import eta_dot_from_samples, max_load
 
-    spec = load(spec_path)
+    if out is not None:
+        check_folder(out, "load-capacity")
+    spec = load(spec_path, max_steps)
     eta_dot = eta_dot_from_samples(spec.t, spec.eta)
     result = max_load(spec.model, spec.t, spec.q, spec.eta, eta_dot, spec.actuators)
     summary = {
@@ -270,7 +282,6 @@ def load_capacity_command(
     if out is not None:
         from mobman.viz import plot_torques
 
-        out.mkdir(parents=True, exist_ok=True)
         series = {
             "t": result.t,
             "tau0": result.tau0,
@@ -280,12 +291,22 @@ def load_capacity_command(
             "upper": result.upper,
             "actuators": list(result.names),
         }
-        (out / "results.json").write_text(dump_json({**summary, "series": series}))
         title = f"{spec_path.name}: required torques vs envelopes"
-        plot_torques(result, title).savefig(out / "torques.png", dpi=120)
+        with results_folder(out, "load-capacity") as staging:
+            write_text(staging / "results.json", dump_json({**summary, "series": series}))
+            save_figure(plot_torques(result, title), staging / "torques.png", dpi=120)
     if json_output:
         typer.echo(dump_json(summary))
-        return
+    else:
+        _print(spec_path, spec, result, summary, out)
+    envelope = (result.tau0, result.tau1, result.lower, result.upper)
+    if not result.bounded and not all(np.all(np.isfinite(a)) for a in envelope):
+        not_reached(
+            "load-capacity", "unbounded because some torques or envelopes are not finite (check the data)"
+        )
+
+
+def _print(spec_path: Path, spec: LoadSpec, result, summary: dict, out: Path | None) -> None:
     load_text = (
         f"{result.max_load:.4f} kg"
         if result.bounded

@@ -21,12 +21,13 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli import app
-from mobman.cli.common import load_robot, parse_vector
+from mobman.cli.common import load_robot
 from mobman.dynamics import DynamicModel, yamamoto_platform
 from mobman.dynamics.ellipsoids import GRASPS, Ellipsoid, dynamic_ellipsoid, kinematic_ellipsoid
 from mobman.dynamics.grasp import HeldObject
 from mobman.errors import InputError, ModelError
 from mobman.io import dump_json
+from mobman.io.numbers import parse_vector
 from mobman.model.robot import MobileManipulator
 
 KINDS = ("kinematic", "dynamic")

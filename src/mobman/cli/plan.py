@@ -10,6 +10,7 @@ term of control i is 0.01·(−1)^i (the paper's λ01 = 0.01, λ02 = −0.01), o
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import jax.numpy as jnp
@@ -19,9 +20,11 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli import app
-from mobman.cli.common import load_robot, parse_vector
+from mobman.cli.common import load_robot, not_reached
 from mobman.errors import InputError
 from mobman.io import dump_json
+from mobman.io.numbers import parse_vector
+from mobman.io.output import check_folder, results_folder
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, plan
@@ -29,40 +32,59 @@ from mobman.planning.basis import Fourier
 from mobman.planning.endpoint import PlanningSetting, dexterity
 from mobman.planning.figures import plot_convergence, plot_paths
 
-DEFAULT_EXTENSIONS = {"tchon-car-rtr": "q[6], q[2] + q[4]"}
-"""The paper's ȳ = (x3, q3 + x1) for the car + RTR arm (q = (q1, q2, q3, q4, x1, x2, x3), 0-based)."""
+MAX_HARMONICS = 100
+"""Largest accepted --harmonics (2·100 + 1 coefficients per control)."""
 
-_FUNCTIONS = {
-    "sin": jnp.sin,
-    "cos": jnp.cos,
-    "tan": jnp.tan,
-    "atan2": jnp.arctan2,
-    "sqrt": jnp.sqrt,
-    "pi": math.pi,
-}
+MAX_ITERATIONS = 100_000
+"""Largest accepted --max-iterations."""
+
+DEFAULT_EXTENSIONS = {"tchon-car-rtr": "x3, theta + x1"}
+"""The paper's ȳ = (x3, q3 + x1) for the car + RTR arm (q = (x, y, θ, φ, x1, x2, x3))."""
 
 
-def extension_task(text: str) -> FunctionTask:
-    """An output extension h(q) from comma-separated expressions of q (0-based, platform first)."""
-    items = [item.strip() for item in text.split(",") if item.strip()]
-    if not items:
-        raise InputError("--extension: give one or more expressions of q, e.g. 'q[6], q[2] + q[4]'")
-    code = []
+@dataclass(frozen=True)
+class CoordinateSums:
+    """h(q) = (Σ_{i ∈ group} q_i for each group): an output extension chosen by coordinates, not by code."""
+
+    groups: tuple[tuple[int, ...], ...]
+
+    def __call__(self, q):
+        return jnp.stack([sum((q[i] for i in group[1:]), q[group[0]]) for group in self.groups])
+
+
+def _coordinate(term: str, robot: MobileManipulator) -> int:
+    names = robot.coordinate_names
+    index_text = term[2:-1] if term.startswith("q[") and term.endswith("]") else term
+    if index_text.isdigit():
+        index = int(index_text)
+        if index >= robot.n_q:
+            raise InputError(
+                f"--extension: index {index} is out of range; {robot.name} has coordinates 0..{robot.n_q - 1} "
+                f"({', '.join(names)})"
+            )
+        return index
+    if term in names:
+        return names.index(term)
+    raise InputError(
+        f"--extension: {term!r} is not a coordinate of {robot.name}; give names ({', '.join(names)}) or "
+        f"0-based indices 0..{robot.n_q - 1}, joined by + for a sum"
+    )
+
+
+def extension_task(text: str, robot: MobileManipulator) -> FunctionTask:
+    """An output extension h(q) from a comma-separated list of coordinates of ``robot`` or sums of them:
+    each item is a coordinate name or 0-based index (``q[i]`` also accepted), ``a + b`` adds coordinates,
+    e.g. ``"x3, theta + x1"`` = ``"6, 2 + 4"`` = ``"q[6], q[2] + q[4]"`` for ``tchon-car-rtr``."""
+    items = [item.strip() for item in text.split(",")]
+    if not any(items):
+        raise InputError("--extension: give one or more coordinates of q, e.g. 'x3, theta + x1'")
+    groups = []
     for item in items:
-        try:
-            code.append(compile(item, "--extension", "eval"))
-        except SyntaxError:
-            raise InputError(f"--extension: {item!r} is not an expression of q") from None
-
-    def h(q):
-        return jnp.stack(
-            [
-                jnp.asarray(eval(c, {"__builtins__": {}}, {**_FUNCTIONS, "q": q}))  # noqa: S307
-                for c in code
-            ]
-        )
-
-    return FunctionTask(h, tuple(items))
+        terms = [term.strip() for term in item.split("+")]
+        if not all(terms):
+            raise InputError(f"--extension: {item!r} has an empty item; expected coordinates joined by +")
+        groups.append(tuple(_coordinate(term, robot) for term in terms))
+    return FunctionTask(CoordinateSums(tuple(groups)), tuple(items))
 
 
 def initial_configuration(setting: PlanningSetting, x0: np.ndarray) -> np.ndarray:
@@ -105,7 +127,9 @@ def plan_command(
     tol: float = typer.Option(1e-12, "--tol", help="Stop when ‖K − y_d‖ ≤ tol."),
     max_iterations: int = typer.Option(200, "--max-iterations", help="Iteration cap."),
     extension: str | None = typer.Option(
-        None, "--extension", help="Output extension h(q) for 'extended', e.g. 'q[6], q[2]+q[4]'."
+        None,
+        "--extension",
+        help="Output extension for 'extended': coordinates (names or 0-based indices) or sums, e.g. 'x3, theta+x1'.",
     ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
@@ -116,9 +140,13 @@ def plan_command(
         raise InputError(f"--algorithm must be one of {', '.join(ALGORITHMS)}, got {algorithm!r}")
     if not (math.isfinite(horizon) and horizon > 0):
         raise InputError(f"--horizon must be a finite number > 0, got {horizon}")
-    if harmonics < 0:
-        raise InputError(f"--harmonics must be ≥ 0, got {harmonics}")
+    if not 0 <= harmonics <= MAX_HARMONICS:
+        raise InputError(f"--harmonics must be in 0..{MAX_HARMONICS}, got {harmonics}")
+    if not 1 <= max_iterations <= MAX_ITERATIONS:
+        raise InputError(f"--max-iterations must be in 1..{MAX_ITERATIONS}, got {max_iterations}")
     robot = load_robot(robot_name, params)
+    if out is not None:
+        check_folder(out, "plan")
     setting = PlanningSetting(robot, Fourier(harmonics), horizon=horizon)
     y_d = parse_vector(target, "--target", setting.output.dim)
     q0 = (
@@ -131,8 +159,10 @@ def plan_command(
     if algorithm == "extended":
         text = extension if extension is not None else DEFAULT_EXTENSIONS.get(robot_name)
         if text is None:
-            raise InputError("--algorithm extended needs --extension (expressions of q) for this robot")
-        ext = extension_task(text)
+            raise InputError(
+                "--algorithm extended needs --extension (coordinates of q, e.g. '2, 3+4') for this robot"
+            )
+        ext = extension_task(text, robot)
     options = Options(
         algorithm, _step(step), gamma=gamma, tol=tol, max_iterations=max_iterations, extension=ext
     )
@@ -158,26 +188,25 @@ def plan_command(
         "error_history": result.errors,
     }
     if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
-        report["figures"] = [
-            str(p)
-            for p in (
-                plot_paths(
-                    setting,
-                    result.z,
-                    q0,
-                    y_d,
-                    f"{robot_name}: {algorithm}, {result.status}",
-                    out / "paths.png",
-                ),
-                plot_convergence(
-                    {algorithm: result.errors}, tol, f"{robot_name}: convergence", out / "convergence.png"
-                ),
+        with results_folder(out, "plan") as staging:
+            title = f"{robot_name}: {algorithm}, {result.status}"
+            plot_paths(setting, result.z, q0, y_d, title, staging / "paths.png")
+            plot_convergence(
+                {algorithm: result.errors}, tol, f"{robot_name}: convergence", staging / "convergence.png"
             )
-        ]
+        report["figures"] = [str(out / "paths.png"), str(out / "convergence.png")]
     if json_output:
         typer.echo(dump_json(report))
-        return
+    else:
+        _print(report, result, options, robot_name, algorithm)
+    if not result.converged:
+        not_reached(
+            "plan",
+            f"{result.status} after {result.iterations} iterations, final error {result.final_error:.3e}",
+        )
+
+
+def _print(report: dict, result, options: Options, robot_name: str, algorithm: str) -> None:
     table = Table(title=f"mobman plan {robot_name} ({algorithm}, Δθ = {options.step})")
     table.add_column("quantity")
     table.add_column("value", overflow="fold")

@@ -11,6 +11,7 @@ from rich.console import Console
 from mobman.cli import app
 from mobman.errors import InputError
 from mobman.experiments import REPRODUCTIONS, module
+from mobman.io.output import check_folder, parent_folder, results_folder, write_text
 
 
 @app.command("reproduce")
@@ -26,19 +27,22 @@ def reproduce_command(
     for n in names:
         if n not in REPRODUCTIONS:
             raise InputError(f"unknown reproduction {n!r}; choose among: all, {', '.join(REPRODUCTIONS)}")
+    check_folder(out, "reproduce")
+    for n in names:
+        check_folder(out / n, "reproduce")
+    parent_folder(out, "reproduce")
     console = Console(stderr=True)
     rows = []
     for n in names:
         start = time.perf_counter()
-        with console.status(f"reproducing {n} …"):
-            result = module(n).run(out / n, quick=quick)
-        result.write(out / n)
+        with console.status(f"reproducing {n} …"), results_folder(out / n, "reproduce") as staging:
+            result = module(n).run(staging, quick=quick)
+            result.write(staging)
         elapsed = time.perf_counter() - start
         console.print(f"[green]✓[/green] {n}: {result.title} ({elapsed:.1f} s) → {out / n}")
         rows.append((n, result.title, elapsed))
     if name == "all":
         lines = ["# mobman reproductions", "", "| reproduction | paper | time (s) |", "|---|---|---|"]
         lines += [f"| [{n}]({n}/report.md) | {title} | {t:.1f} |" for n, title, t in rows]
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "index.md").write_text("\n".join(lines) + "\n")
+        write_text(out / "index.md", "\n".join(lines) + "\n")
         console.print(f"index: {out / 'index.md'}")

@@ -11,10 +11,22 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
 from mobman.cli import app
+from mobman.cli.common import MAX_STEPS, check_steps, not_reached
 from mobman.io import dump_json
+from mobman.io.output import check_folder, results_folder, save_figure, write_text
 
 PROGRESS_STEPS = 5000
 """Runs with more steps than this show a progress bar (computed in compiled chunks)."""
+
+
+def _steps(spec) -> int:
+    return int(round(spec.duration / spec.dt)) + 1
+
+
+def _values_per_step(spec) -> int:
+    """Floats stored per time step: q, η (and the law's diagnostics), ξ, ξ*, the error, the measures."""
+    robot = spec.robot
+    return 2 * robot.n_q + 3 * robot.n_eta + 3 * spec.task.dim + len(spec.measures) + 4
 
 
 def _run(spec, quiet: bool):
@@ -22,7 +34,7 @@ def _run(spec, quiet: bool):
 
     args = (spec.robot, spec.task, spec.law, spec.reference, spec.q0, spec.duration, spec.dt)
     kwargs = {"measures": spec.measures, "integrator": spec.integrator}
-    steps = int(round(spec.duration / spec.dt)) + 1
+    steps = _steps(spec)
     if quiet or steps <= PROGRESS_STEPS:
         return simulate(*args, **kwargs)
     columns = (
@@ -39,7 +51,6 @@ def _run(spec, quiet: bool):
 def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
     from mobman.viz import plot_paths, plot_timeseries
 
-    out.mkdir(parents=True, exist_ok=True)
     series = {
         "t": result.t,
         "q": result.q,
@@ -51,18 +62,18 @@ def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
         "saturated": result.saturated,
         "damped": result.damped,
     }
-    (out / "results.json").write_text(
-        dump_json({"spec": str(spec_path), "metrics": summary, "series": series})
+    write_text(
+        out / "results.json", dump_json({"spec": str(spec_path), "metrics": summary, "series": series})
     )
     figures = [out / "paths.png", out / "timeseries.png"]
-    plot_paths(result.robot, result.q, reference=result.xi_star[:, :2]).savefig(figures[0], dpi=120)
+    save_figure(plot_paths(result.robot, result.q, reference=result.xi_star[:, :2]), figures[0], dpi=120)
     panels = {
         "‖ξ* − ξ‖": {"error": np.linalg.norm(result.error, axis=-1)},
         "η": {name: result.eta[:, i] for i, name in enumerate(result.robot.control_names)},
     }
     if result.measures:
         panels["measures"] = dict(result.measures)
-    plot_timeseries(result.t, panels).savefig(figures[1], dpi=120)
+    save_figure(plot_timeseries(result.t, panels), figures[1], dpi=120)
     return figures
 
 
@@ -71,19 +82,34 @@ def simulate_command(
     spec_path: Path = typer.Argument(..., metavar="SPEC.toml", help="TOML specification (docs/control.md)."),
     out: Path | None = typer.Option(None, "--out", help="Write results.json and figures into this folder."),
     json_output: bool = typer.Option(False, "--json", help="Print the metrics as one JSON object."),
+    max_steps: int = typer.Option(
+        MAX_STEPS, "--max-steps", help="Refuse runs of more time steps than this (duration / dt)."
+    ),
 ) -> None:
     """Simulate a control law tracking an operational reference; print the run's metrics."""
     from mobman.control import metrics, spec
 
     parsed = spec.load(spec_path)
+    check_steps(_steps(parsed), _values_per_step(parsed), "duration / dt", max_steps)
+    if out is not None:
+        check_folder(out, "simulate")
     result = _run(parsed, quiet=json_output)
     summary = metrics.summarize(result, parsed.robot)
     summary["q_final"] = result.q[-1].tolist()
     if out is not None:
-        _write(out, spec_path, result, summary)
+        with results_folder(out, "simulate") as staging:
+            _write(staging, spec_path, result, summary)
     if json_output:
         typer.echo(dump_json(summary))
-        return
+    else:
+        _print(spec_path, parsed, result, summary, out)
+    saturated = summary["saturated_steps"]
+    if saturated or not np.all(np.isfinite(result.q)):
+        reason = f"the controls saturated at {saturated} of {len(result.t)} samples" if saturated else ""
+        not_reached("simulate", reason or "the state left the finite numbers")
+
+
+def _print(spec_path: Path, parsed, result, summary: dict, out: Path | None) -> None:
     table = Table(title=f"{spec_path.name}: {parsed.robot.name}, {len(result.t)} samples")
     table.add_column("metric")
     table.add_column("value", justify="right")

@@ -57,6 +57,7 @@ from mobman.control import criteria, laws, references
 from mobman.control.simulation import INTEGRATORS, _measure_names
 from mobman.errors import InputError, MobmanError
 from mobman.io import spec as fields
+from mobman.io.numbers import parse_vector
 from mobman.model import robots, spatial
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Elevation, FunctionTask, MountPosition, PlanarAngle, Pose, Position, Task, stack
@@ -309,8 +310,6 @@ def parse(data: dict, base: Path | None = None) -> Spec:
         raise InputError(f"task: {exc}") from None
     q0 = data.get("q0")
     if isinstance(q0, str):
-        from mobman.cli.common import parse_vector
-
         q0 = parse_vector(q0, "q0", robot.n_q)
     q0 = fields.array(q0 if q0 is not None else [], "q0")
     if q0.shape != (robot.n_q,):
@@ -340,7 +339,9 @@ def parse(data: dict, base: Path | None = None) -> Spec:
 
 def load(path: Path) -> Spec:
     """Read and parse a TOML specification file."""
-    return parse(fields.read_toml(path), Path(path).parent)
+    data = fields.read_toml(path)
+    with fields.naming(path):
+        return parse(data, Path(path).parent)
 
 
 __all__ = ["Spec", "load", "parse"]

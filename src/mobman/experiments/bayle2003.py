@@ -26,6 +26,7 @@ import numpy as np
 from mobman import kinematics
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.experiments.report import Reproduction
+from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.task import Position
 
@@ -124,7 +125,7 @@ def _figures(out: Path, robot, task, fig5, fig6) -> list[Path]:
         labels="ellipse of J̄ (×0.12)",
     )
     paths.append(out / "fig5_paths.png")
-    fig.savefig(paths[-1], dpi=120)
+    save_figure(fig, paths[-1], dpi=120)
     panels = {
         "w5 (system)": {n: r.measures["system_w5"] for n, _, _, r in runs},
         "w5 (arm)": {n: r.measures["arm_w5"] for n, _, _, r in runs},
@@ -132,7 +133,7 @@ def _figures(out: Path, robot, task, fig5, fig6) -> list[Path]:
     }
     fig = plot_timeseries(main.t, panels, title="Fig. 5: sensitivity to the gain k")
     paths.append(out / "fig5_measures.png")
-    fig.savefig(paths[-1], dpi=120)
+    save_figure(fig, paths[-1], dpi=120)
 
     _, alpha, (x0, x1), res = fig6
     fig = plot_paths(
@@ -143,7 +144,7 @@ def _figures(out: Path, robot, task, fig5, fig6) -> list[Path]:
         title=f"Fig. 6: system → arm criterion between x = {x0:.2f} and {x1:.2f} m",
     )
     paths.append(out / "fig6_paths.png")
-    fig.savefig(paths[-1], dpi=120)
+    save_figure(fig, paths[-1], dpi=120)
     panels = {
         "α(ξ*)": {"α": np.asarray(alpha(res.xi_star))},
         "w5": {"system": res.measures["system_w5"], "arm": res.measures["arm_w5"]},
@@ -151,7 +152,7 @@ def _figures(out: Path, robot, task, fig5, fig6) -> list[Path]:
     }
     fig = plot_timeseries(res.t, panels, title="Fig. 6: convex combination of criteria (eq. 7)")
     paths.append(out / "fig6_measures.png")
-    fig.savefig(paths[-1], dpi=120)
+    save_figure(fig, paths[-1], dpi=120)
     return paths
 
 

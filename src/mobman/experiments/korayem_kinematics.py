@@ -28,6 +28,7 @@ from mobman import viz
 from mobman.control import laws, references, simulate
 from mobman.control.simulation import SimulationResult
 from mobman.experiments.report import Reproduction
+from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import FunctionTask, MountPosition, PlanarAngle, Position, Task, stack
@@ -263,7 +264,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
             ("joints", joints_figure(model, result)),
         ):
             path = out / f"model{model.number}_{kind}.png"
-            fig.savefig(path, dpi=110)
+            save_figure(fig, path, dpi=110)
             figures.append(path)
     return Reproduction(NAME, TITLE, results, report(robot, results, dt), figures)
 

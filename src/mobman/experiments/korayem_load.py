@@ -32,6 +32,7 @@ from mobman.dynamics.load_capacity import (
 )
 from mobman.experiments import korayem_kinematics as kinematics
 from mobman.experiments.report import Reproduction
+from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.arm import LinkInertial
 
@@ -170,10 +171,10 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         cases.append(summarize(case.number, case, capacity))
         path = out / f"case{case.number}_torques.png"
         title = f"Korayem case {case.number}: joint torques vs DC-motor envelopes"
-        viz.plot_torques(capacity, title).savefig(path, dpi=110)
+        save_figure(viz.plot_torques(capacity, title), path, dpi=110)
         figures.append(path)
     path = out / "allowable_load.png"
-    profile_figure(capacities).savefig(path, dpi=110)
+    save_figure(profile_figure(capacities), path, dpi=110)
     figures.append(path)
     results = {
         "parameters": {**PARAMETERS, "dt_s": dt},

@@ -29,6 +29,7 @@ from mobman import viz
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.control.simulation import SimulationResult
 from mobman.experiments.report import Reproduction
+from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator, Mount
 
@@ -220,18 +221,19 @@ def run(out: Path, quick: bool = False) -> Reproduction:
                     chosen[strategy] = r
                     fig = strategy_figure(robot, case, strategy, gain, r)
                     path = out / f"fig{FIGURES[case, strategy]}_case{case}_{strategy}.png"
-                    fig.savefig(path, dpi=100)
+                    save_figure(fig, path, dpi=100)
                     figures.append(path)
         path = out / f"ellipses_case{case}.png"
-        ellipses_figure(robot, case, chosen).savefig(path, dpi=100)
+        save_figure(ellipses_figure(robot, case, chosen), path, dpi=100)
         figures.append(path)
         path = out / f"manus_3d_case{case}_normalized.png"
-        viz.plot_paths_3d(
+        figure = viz.plot_paths_3d(
             robot,
             chosen["system_w5_normalized"].q,
             instants=4,
             title=f"case {case}, system_w5_normalized, W = {GAIN:g}",
-        ).savefig(path, dpi=100)
+        )
+        save_figure(figure, path, dpi=100)
         figures.append(path)
     return Reproduction(NAME, TITLE, entries, report(entries, dt), figures)
 

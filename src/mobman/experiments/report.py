@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from mobman.io import dump_json
+from mobman.io.output import write_text
 
 
 @dataclass
@@ -25,7 +26,6 @@ class Reproduction:
 
     def write(self, out: Path) -> None:
         """Write ``results.json`` and ``report.md`` into ``out`` (figures are written by the experiment)."""
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "results.json").write_text(dump_json(self.results))
+        write_text(out / "results.json", dump_json(self.results))
         figures = "\n".join(f"![{p.stem}]({p.name})" for p in self.figures)
-        (out / "report.md").write_text(f"# {self.title}\n\n{self.report}\n\n{figures}\n")
+        write_text(out / "report.md", f"# {self.title}\n\n{self.report}\n\n{figures}\n")

@@ -26,6 +26,7 @@ from mobman.dynamics import yamamoto_model
 from mobman.dynamics.ellipsoids import Ellipsoid, dynamic_ellipsoid, kinematic_ellipsoid
 from mobman.dynamics.grasp import HeldObject
 from mobman.experiments.report import Reproduction
+from mobman.io.output import save_figure
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Position
 
@@ -235,7 +236,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     ):
         per_angle = {a: _split(e, i) for i, a in enumerate(ANGLES)}
         fig = _figure(robot, configs, per_angle, scales, unit, draw, title, what)
-        fig.savefig(out / name, dpi=110)
+        save_figure(fig, out / name, dpi=110)
         figures.append(out / name)
 
     settings = {

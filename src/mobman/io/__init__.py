@@ -1,4 +1,5 @@
-"""Reading and writing: JSON results, TOML spec helpers (:mod:`.spec`), robot description files (:mod:`.robot_file`)."""
+"""Reading and writing: JSON results, numbers typed by users (:mod:`.numbers`), files and results folders written
+atomically (:mod:`.output`), TOML spec helpers (:mod:`.spec`), robot description files (:mod:`.robot_file`)."""
 
 from mobman.io.results import dump_json, to_jsonable
 

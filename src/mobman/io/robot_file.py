@@ -28,6 +28,7 @@ Wherever the command line takes a built-in robot name, a path ending in ``.toml`
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from mobman.errors import InputError
@@ -56,13 +57,16 @@ def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
     if not isinstance(entries, dict):
         raise InputError(f"{field}: must be a table")
     fields.keys(entries, field, ARM_KEYS)
-    convention = entries.get("convention", "dh")
-    if convention not in CONVENTIONS:
-        raise InputError(f"{field}.convention: {convention!r} not one of {', '.join(CONVENTIONS)}")
+    convention = fields.text(entries, "convention", field, "dh", tuple(CONVENTIONS))
     table = fields.array(entries.get("table"), f"{field}.table")
     if table.ndim != 2 or table.shape[1] != 4 or not len(table):
         raise InputError(f"{field}.table: one row of 4 numbers per joint, got shape {table.shape}")
     n = len(table)
+    kinds = fields.text(entries, "kinds", field)
+    if kinds is not None and (len(kinds) != n or set(kinds) - {"R", "P"}):
+        raise InputError(
+            f"{field}.kinds: one letter R (revolute) or P (prismatic) per joint ({n}), got {kinds!r}"
+        )
     limits = None
     if "limits" in entries:
         limits = fields.array(entries["limits"], f"{field}.limits")
@@ -76,28 +80,38 @@ def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
         field,
         CONVENTIONS[convention],
         table=table.tolist(),
-        kinds=entries.get("kinds"),
+        kinds=kinds,
         tool=transform(None, tuple(tool)),
         limits=None if limits is None else [tuple(row) for row in limits.tolist()],
         velocity_limits=_vector(entries, "velocity_max", field, n),
-        name=str(entries.get("name", field)),
+        name=fields.text(entries, "name", field, field),
     )
     return arm, fields.build(f"{field}.mount", Mount, x=mount[0], y=mount[1], z=mount[2], yaw=mount[3])
 
 
+def _platform(entries: dict):
+    cls = fields.kind(entries, "platform", PLATFORMS)
+    parameters = tuple(f.name for f in dataclasses.fields(cls) if f.init)
+    fields.keys(entries, "platform", ("kind", *parameters))
+    values = {
+        key: tuple(fields.array(value, f"platform.{key}").tolist())
+        if isinstance(value, list)
+        else fields.number(entries, key, "platform")
+        for key, value in entries.items()
+        if key != "kind"
+    }
+    return fields.build("platform", cls, **values)
+
+
 def parse(data: dict, source: str = "robot file") -> MobileManipulator:
     """A :class:`MobileManipulator` from a parsed robot description (see the module docstring)."""
-    fields.keys(data, source, ("name", "task", "platform", "arms"))
-    platform_table = dict(fields.table(data, "platform", "platform"))
-    kind = platform_table.pop("kind", None)
-    if kind not in PLATFORMS:
-        raise InputError(f"platform.kind: {kind!r} not one of {', '.join(PLATFORMS)}")
-    platform = fields.build("platform", PLATFORMS[kind], **platform_table)
+    fields.keys(data, "", ("name", "task", "platform", "arms"))
+    platform = _platform(fields.table(data, "platform", "platform"))
     arms = data.get("arms")
     if not isinstance(arms, list) or not arms:
         raise InputError("arms: at least one [[arms]] table")
     parts = [_arm(entries, f"arms[{i}]") for i, entries in enumerate(arms)]
-    components = data.get("task", "xyz")
+    components = fields.text(data, "task", "", "xyz")
     task = fields.build("task", Position, components=components)
     return fields.build(
         source,
@@ -106,10 +120,12 @@ def parse(data: dict, source: str = "robot file") -> MobileManipulator:
         arms=tuple(arm for arm, _ in parts),
         mounts=tuple(mount for _, mount in parts),
         task=task,
-        name=str(data.get("name", "robot-file")),
+        name=fields.text(data, "name", "", "robot-file"),
     )
 
 
 def load(path: Path | str) -> MobileManipulator:
     """Read a robot description file."""
-    return parse(fields.read_toml(Path(path)), str(path))
+    data = fields.read_toml(Path(path))
+    with fields.naming(path):
+        return parse(data)

@@ -3,26 +3,83 @@ field and raises :class:`~mobman.errors.InputError` naming it (``robot.params.l1
 
 from __future__ import annotations
 
+import contextlib
+import difflib
+import math
 import tomllib
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from mobman.errors import InputError, MobmanError
+from mobman.io.numbers import MAX_MAGNITUDE
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator
 
+MAX_FILE_BYTES = 16 * 2**20
+"""Largest accepted robot or specification file."""
 
-def read_toml(path: Path) -> dict:
-    """The TOML document at ``path`` as a dict; unreadable or invalid files raise InputError."""
+MAX_NESTING = 8
+"""Deepest accepted nesting of tables and arrays in a robot or specification file."""
+
+
+def read_text(path: Path, field: str, limit: int = MAX_FILE_BYTES) -> str:
+    """The UTF-8 text of the file at ``path``; unreadable, binary, non-UTF-8 or larger than ``limit`` bytes
+    → InputError naming ``field``."""
     try:
         with open(path, "rb") as handle:
-            return tomllib.load(handle)
+            raw = handle.read(limit + 1)
     except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror})") from None
+        raise InputError(f"{field}: cannot read ({exc.strerror or exc})") from None
+    if len(raw) > limit:
+        raise InputError(f"{field}: larger than {limit // 2**20} MiB")
+    if b"\0" in raw:
+        raise InputError(f"{field}: binary content (a NUL byte at {raw.index(0)}); expected a text file")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{field}: not UTF-8 text (byte {exc.start}); save the file as UTF-8") from None
+
+
+def _depth(value: Any) -> int:
+    """Nesting depth of tables and arrays, without recursion (0 for a scalar)."""
+    deepest, pending = 0, [(value, 0)]
+    while pending:
+        item, level = pending.pop()
+        if isinstance(item, (dict, list)):
+            if level + 1 > MAX_NESTING:
+                return level + 1
+            deepest = max(deepest, level + 1)
+            pending.extend((v, level + 1) for v in (item.values() if isinstance(item, dict) else item))
+    return deepest
+
+
+def read_toml(path: Path) -> dict:
+    """The TOML document at ``path`` as a dict; unreadable, binary, non-UTF-8, invalid or too deeply nested
+    files raise InputError naming the file."""
+    text = read_text(path, str(path))
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: invalid TOML ({exc})") from None
+    except RecursionError:
+        raise InputError(f"{path}: nested deeper than {MAX_NESTING} levels") from None
+    if _depth(data) > MAX_NESTING:
+        raise InputError(f"{path}: nested deeper than {MAX_NESTING} levels")
+    return data
+
+
+@contextlib.contextmanager
+def naming(path: Path | str) -> Iterator[None]:
+    """Prefix the message of an InputError raised in the block with the file's path (once)."""
+    try:
+        yield
+    except InputError as exc:
+        if str(exc).startswith(f"{path}:"):
+            raise
+        raise InputError(f"{path}: {exc}") from None
 
 
 def table(data: dict, key: str, field: str, required: bool = True) -> dict | None:
@@ -33,57 +90,111 @@ def table(data: dict, key: str, field: str, required: bool = True) -> dict | Non
             raise InputError(f"{field}: missing (a [{field}] table)")
         return None
     if not isinstance(value, dict):
-        raise InputError(f"{field}: must be a table, got {value!r}")
+        raise InputError(f"{field}: must be a table, got {_shown(value)}")
     return value
 
 
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def keys(entries: dict, field: str, allowed: tuple[str, ...]) -> None:
-    """Reject keys of a table that are not in ``allowed``."""
+    """Reject keys of a table that are not in ``allowed``, suggesting the closest allowed one."""
     for key in entries:
         if key not in allowed:
-            raise InputError(f"{field}.{key}: unknown key; allowed: {', '.join(allowed)}")
+            close = difflib.get_close_matches(str(key), allowed, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            name = f"{field}.{key}" if field else str(key)
+            raise InputError(f"{name}: unknown key; {hint}allowed: {', '.join(allowed)}")
 
 
 def kind(entries: dict, field: str, kinds: dict) -> Any:
     """The value of ``kinds`` selected by the table's ``kind`` key."""
     name = entries.get("kind")
-    if name not in kinds:
-        raise InputError(f"{field}.kind: {name!r} not one of {', '.join(kinds)}")
+    if not isinstance(name, str) or name not in kinds:
+        close = difflib.get_close_matches(name, list(kinds), n=1) if isinstance(name, str) else []
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise InputError(f"{field}.kind: {_shown(name)} not one of {', '.join(kinds)}{hint}")
     return kinds[name]
 
 
+def text(entries: dict, key: str, field: str, default: Any = None, allowed: tuple[str, ...] = ()) -> Any:
+    """A string at ``entries[key]`` (``default`` when absent), one of ``allowed`` when given."""
+    value = entries.get(key, default)
+    name = f"{field}.{key}" if field else key
+    if value is default:
+        return value
+    if not isinstance(value, str) or len(value) > 200:
+        raise InputError(f"{name}: must be a string (at most 200 characters), got {_shown(value)}")
+    if allowed and value not in allowed:
+        raise InputError(f"{name}: {value!r} not one of {', '.join(allowed)}")
+    return value
+
+
+def integer(entries: dict, key: str, field: str, default: Any = None, minimum: int | None = None) -> Any:
+    """An integer at ``entries[key]`` (``default`` when absent), ≥ ``minimum`` when given."""
+    value = entries.get(key, default)
+    name = f"{field}.{key}" if field else key
+    if value is default:
+        return value
+    if isinstance(value, bool) or not isinstance(value, int) or abs(value) > 10**6:
+        raise InputError(f"{name}: must be an integer, got {_shown(value)}")
+    if minimum is not None and value < minimum:
+        raise InputError(f"{name}: must be ≥ {minimum}, got {value}")
+    return value
+
+
+def _checked(value: float, name: str) -> float:
+    if not math.isfinite(value) or abs(value) > MAX_MAGNITUDE:
+        raise InputError(f"{name}: must be a finite number with |value| ≤ {MAX_MAGNITUDE:g}, got {value!r}")
+    return value
+
+
 def number(entries: dict, key: str, field: str, default: Any = None, positive: bool = False) -> float:
-    """A finite number (optionally > 0) at ``entries[key]``."""
+    """A finite number (optionally > 0) at ``entries[key]``, |value| ≤ :data:`~mobman.io.numbers.MAX_MAGNITUDE`."""
     value = entries.get(key, default)
     if value is None:
         raise InputError(f"{field}.{key}: missing (a number)" if field else f"{key}: missing (a number)")
     name = f"{field}.{key}" if field else key
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
-        raise InputError(f"{name}: must be a finite number, got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{name}: must be a finite number, got {_shown(value)}")
+    try:
+        _checked(float(value), name)
+    except OverflowError:
+        raise InputError(f"{name}: must be a finite number with |value| ≤ {MAX_MAGNITUDE:g}") from None
     if positive and value <= 0:
         raise InputError(f"{name}: must be > 0, got {value!r}")
     return float(value)
 
 
 def array(value, name: str) -> np.ndarray:
-    """A finite float array from a TOML number or (nested) list."""
+    """A finite float array from a TOML number or (nested, rectangular) list of numbers, each
+    |value| ≤ :data:`~mobman.io.numbers.MAX_MAGNITUDE`."""
+    pending = [value]
+    while pending:
+        item = pending.pop()
+        if isinstance(item, (list, tuple, np.ndarray)):
+            pending.extend(item.ravel().tolist() if isinstance(item, np.ndarray) else item)
+        elif isinstance(item, bool) or not isinstance(item, (int, float)):
+            raise InputError(f"{name}: must be a number or an array of numbers, got {_shown(value)}")
+        else:
+            try:
+                _checked(float(item), name)
+            except OverflowError:
+                raise InputError(f"{name}: must be finite numbers with |value| ≤ {MAX_MAGNITUDE:g}") from None
     try:
-        arr = np.asarray(value, dtype=float)
+        return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{name}: must be a number or an array of numbers, got {value!r}") from None
-    if not np.all(np.isfinite(arr)):
-        raise InputError(f"{name}: must be finite, got {value!r}")
-    return arr
+        raise InputError(f"{name}: must be a rectangular array of numbers, got {_shown(value)}") from None
 
 
 def build(field: str, factory, /, **kwargs):
     """Call a constructor; its ModelError becomes an InputError naming the spec field."""
     try:
         return factory(**kwargs)
-    except MobmanError as exc:
-        raise InputError(f"{field}: {exc}") from None
-    except TypeError as exc:
-        raise InputError(f"{field}: {exc}") from None
+    except (MobmanError, TypeError, ValueError) as exc:
+        raise InputError(f"{field}: {' '.join(str(exc).split())}") from None
 
 
 def robot(data: dict, base: Path | None = None) -> MobileManipulator:
@@ -96,7 +207,7 @@ def robot(data: dict, base: Path | None = None) -> MobileManipulator:
 
         if "name" in entry or "params" in entry:
             raise InputError("robot: give either file or name (with params), not both")
-        path = Path(str(entry["file"]))
+        path = Path(text(entry, "file", "robot"))
         return robot_file.load(path if base is None or path.is_absolute() else base / path)
     name = entry.get("name")
     if not isinstance(name, str):
