@@ -1,7 +1,8 @@
-"""The papers' robots, every dimension a keyword argument named as in the paper.
+"""The papers' robots, every dimension a keyword argument named as in the paper, and the real robots.
 
 Where a paper gives no value, the default is a documented choice (see ``docs/kinematics.md``). Each robot
-carries its paper's operational task. On the command line the names use hyphens (``bayle-planar``).
+carries its paper's operational task. On the command line the names use hyphens (``bayle-planar``). The real
+robots (TIAGo, TIAGo dual, Stretch) are read from their URDF files: :mod:`mobman.model.real_robots`.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platform import CarLike, DifferentialDrive
+from mobman.model.real_robots import FACTORIES
 from mobman.model.robot import MobileManipulator, Mount
 from mobman.model.task import Elevation, PlanarAngle, Position, stack
 
@@ -217,6 +219,7 @@ ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
     "korayem-planar": korayem_planar,
     "tchon-car-rtr": tchon_car_rtr,
     "yamamoto-dual-arm": yamamoto_dual_arm,
+    **FACTORIES,  # the real robots, read from their URDF files (mobman[robots]; model/real_robots.py)
 }
 
 
