@@ -178,9 +178,10 @@ def _parse(path) -> tuple["object", Path]:
     import yourdfpy
 
     file = Path(path)
-    if file.suffix == ".xacro" or file.name.endswith(".urdf.xacro"):
+    if file.suffix == ".xacro":
+        target = file.stem if file.stem.endswith(".urdf") else file.stem + ".urdf"
         raise InputError(
-            f"{file}: a xacro file; expand it to URDF first: xacro {file.name} > {file.stem}.urdf "
+            f"{file}: a xacro file; expand it to URDF first: xacro {file.name} > {target} "
             "(the xacro tool: pip install xacro, or ROS's xacro package)"
         )
     if not file.is_file():
