@@ -10,10 +10,14 @@ import warnings
 import numpy as np
 import pytest
 
+from mobman import dynamics as dyn
 from mobman import kinematics as K
+from mobman import redundancy as R
 from mobman.cli import main
 from mobman.errors import InputError, ModelError
-from mobman.io.urdf import inspect_urdf, load_urdf, read_urdf
+from mobman.io.urdf import inspect_urdf, load_urdf, read_urdf, urdf_tips, write_urdf
+from mobman.model import robots
+from mobman.model.platform import DifferentialDrive
 from mobman.model.real_robots import REAL_ROBOTS, urdf_model
 
 WHEEL = """
@@ -242,3 +246,73 @@ def test_no_warning_on_the_built_in_files():
         warnings.simplefilter("error")
         for spec in REAL_ROBOTS.values():
             read_urdf(spec.path(), tip=spec.tips, base=spec.base, locked=dict(spec.locked))
+
+
+# --- write → read round trips ---------------------------------------------------------------------
+
+PAPER_ROBOTS = [
+    "bayle-planar",
+    "bayle-rrp",
+    "manus-platform",
+    "korayem-planar",
+    "tchon-car-rtr",
+    "yamamoto-dual-arm",
+]
+
+
+def _read_back(robot, path):
+    platform = {"CarLike": "car", "Omnidirectional": "omnidirectional"}.get(
+        type(robot.platform).__name__, "auto"
+    )
+    return load_urdf(path, tip=urdf_tips(robot), platform=platform).with_task(robot.task)
+
+
+def _motion_map(robot) -> np.ndarray:
+    """T with (platform q, motion variables) = T q: identity on the platform, each arm's coupling C."""
+    t = np.eye(robot.n_q)
+    for i, arm in enumerate(robot.arms):
+        s = robot.arm_slice(i)
+        t[s, s] = arm.coupling_matrix
+    return t
+
+
+@pytest.mark.parametrize("name", PAPER_ROBOTS)
+def test_paper_robots_round_trip_through_urdf(name, tmp_path):
+    robot = robots.build(name)
+    back = _read_back(robot, write_urdf(robot, tmp_path / f"{name}.urdf"))
+    assert type(back.platform) is type(robot.platform) and back.n_q == robot.n_q
+    q = R.sample_configurations(robot, 64, seed=3)
+    t = _motion_map(robot)  # a coupled arm is written in its motion variables
+    q_back = q @ t.T
+    assert np.abs(np.asarray(K.forward(back, q_back)) - np.asarray(K.forward(robot, q))).max() < 1e-12
+    jbar, jbar_back = np.asarray(K.reduced_jacobian(robot, q)), np.asarray(K.reduced_jacobian(back, q_back))
+    n_p = robot.platform.n_eta
+    t_eta = np.eye(robot.n_eta)
+    t_eta[n_p:, n_p:] = t[robot.n_platform :, robot.n_platform :]
+    assert np.abs(jbar_back @ t_eta - jbar).max() < 1e-12
+    if isinstance(robot.platform, DifferentialDrive) and robot.platform.wheel_speed_max is not None:
+        assert back.platform == robot.platform  # the per-wheel speed limit is written too
+
+
+def test_mass_matrix_round_trips_through_urdf(tmp_path):
+    """Yamamoto & Yun's robot with its Table 1–2 inertials: platform body, wheels and links written and read."""
+    model = dyn.yamamoto_model()
+    path = write_urdf(model, tmp_path / "yamamoto.urdf")
+    back = read_urdf(path, tip=urdf_tips(model.robot))
+    assert back.body.mass == pytest.approx(model.body.mass + 2 * model.wheel.mass, rel=1e-12)
+    back_model = back.dynamic_model(model.gravity)
+    q = R.sample_configurations(model.robot, 16, seed=4)
+    m, m_back = np.asarray(dyn.mass_matrix(model, q)), np.asarray(dyn.mass_matrix(back_model, q))
+    assert np.abs(m_back - m).max() < 1e-12 * np.abs(m).max()
+
+
+def test_tiago_round_trips_through_urdf(tmp_path):
+    model = urdf_model("tiago")
+    path = write_urdf(model.dynamic_model(), tmp_path / "tiago.urdf")
+    back = read_urdf(path, tip=urdf_tips(model.robot))
+    assert back.robot.platform == model.robot.platform
+    assert back.wheel.I_w == pytest.approx(model.wheel.I_w, rel=1e-12)
+    assert back.body.inertia_z == pytest.approx(model.body.inertia_z, rel=1e-12)
+    q = R.sample_configurations(model.robot, 32, seed=5)
+    jbar = np.asarray(K.reduced_jacobian(model.robot, q))
+    assert np.abs(np.asarray(K.reduced_jacobian(back.robot, q)) - jbar).max() < 1e-12

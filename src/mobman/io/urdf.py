@@ -315,12 +315,12 @@ def _groups(tree: _Tree, base: str, starts: dict[str, tuple[int, int]]) -> dict[
 
 
 def _lump(parts: list[tuple[float, np.ndarray, np.ndarray]]) -> tuple[float, np.ndarray, np.ndarray] | None:
-    """(mass, com, inertia about com) of rigid parts given as (mass, com, inertia about own com) in one frame."""
-    parts = [p for p in parts if p[0] > 0]
+    """(mass, com, inertia about com) of rigid parts given as (mass, com, inertia about own com) in one frame
+    (parallel-axis theorem; a part of zero mass adds its inertia only)."""
     if not parts:
         return None
     mass = sum(m for m, _, _ in parts)
-    com = sum(m * c for m, c, _ in parts) / mass
+    com = sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3)
     inertia = np.zeros((3, 3))
     for m, c, i in parts:
         d = c - com
@@ -334,11 +334,14 @@ def _inertial_parts(tree: _Tree, links: list[str], frame: np.ndarray, poses) -> 
     parts = []
     for name in links:
         inertial = tree.links[name].inertial
-        if inertial is None or not inertial.mass or inertial.mass <= 0:
+        if inertial is None:
+            continue
+        mass = float(inertial.mass or 0.0)
+        i_local = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, dtype=float)
+        if mass < 0 or (mass == 0 and not np.any(i_local)):
             continue
         t = inv @ poses[name] @ (np.eye(4) if inertial.origin is None else np.asarray(inertial.origin))
-        i_local = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, dtype=float)
-        parts.append((float(inertial.mass), t[:3, 3].copy(), t[:3, :3] @ i_local @ t[:3, :3].T))
+        parts.append((mass, t[:3, 3].copy(), t[:3, :3] @ i_local @ t[:3, :3].T))
     return parts
 
 
@@ -634,7 +637,7 @@ def read_urdf(
                     velocity_max=None if limit is None else _limit(limit.velocity),
                     effort_max=None if limit is None else _limit(limit.effort),
                     inertial=None
-                    if lumped is None
+                    if lumped is None or lumped[0] <= 0
                     else LinkInertial(lumped[0], tuple(lumped[1]), tuple(lumped[2].ravel())),
                     visuals=_visuals(
                         tree, by_group.get((i, k), []), frame, poses, directory, materials, missing
@@ -699,7 +702,7 @@ def _platform_inertials(tree, links, platform_pose, poses, wheel_pair):
     from mobman.dynamics.inertia import PlatformBody, Wheel
 
     lumped = _lump(_inertial_parts(tree, links, platform_pose, poses))
-    if lumped is None:
+    if lumped is None or lumped[0] <= 0:
         return None, None
     mass, com, inertia = lumped
     body = PlatformBody(mass, float(inertia[2, 2]), tuple(com))
@@ -730,3 +733,170 @@ def load_urdf(
 def inspect_urdf(path, **options) -> UrdfSummary:
     """What :func:`read_urdf` keeps and leaves out of a URDF file (chains, wheels, passive joints)."""
     return read_urdf(path, **options).summary
+
+
+# --- writing ---------------------------------------------------------------------------------------
+
+CAR_WHEEL_RADIUS = 0.1  # m: the wheel radius written for a car (the kinematic car has none)
+
+
+def _u_inertial(mass: float, com, inertia) -> "object":
+    from yourdfpy import Inertial
+
+    origin = np.eye(4)
+    origin[:3, 3] = com
+    return Inertial(origin=origin, mass=float(mass), inertia=np.asarray(inertia, dtype=float).reshape(3, 3))
+
+
+def _u_visuals(visuals: Sequence[Visual]) -> list:
+    from yourdfpy import Box, Color, Cylinder, Geometry, Material, Mesh, Sphere
+    from yourdfpy import Visual as UVisual
+
+    shapes = []
+    for v in visuals:
+        if v.kind == "box":
+            geometry = Geometry(box=Box(np.asarray(v.size)))
+        elif v.kind == "cylinder":
+            geometry = Geometry(cylinder=Cylinder(*v.size))
+        elif v.kind == "sphere":
+            geometry = Geometry(sphere=Sphere(v.size[0]))
+        else:
+            geometry = Geometry(mesh=Mesh(v.filename, np.asarray(v.scale)))
+        material = Material(name=None, color=Color(np.asarray(v.rgba)))
+        shapes.append(
+            UVisual(
+                name=v.name or None, origin=spatial.as_matrix(v.origin), geometry=geometry, material=material
+            )
+        )
+    return shapes
+
+
+def _wheel(name: str, parent: str, xyz, radius: float, speed, wheel: "Wheel | None"):
+    """A continuous wheel joint turning about the platform's y axis, with its link (cylinder collision)."""
+    from yourdfpy import Collision, Cylinder, Geometry, Limit, Link
+    from yourdfpy import Joint as UJoint
+
+    origin = np.eye(4)
+    origin[:3, :3] = spatial.rot_x(-math.pi / 2)  # the joint's z axis along the platform's y axis
+    origin[:3, 3] = xyz
+    inertial = None
+    if wheel is not None and (wheel.mass > 0 or wheel.I_w > 0 or wheel.I_m > 0):
+        # about the centre: I_m about the diameters (local x, y), I_w about the axle (local z)
+        inertial = _u_inertial(wheel.mass, (0.0, 0.0, 0.0), np.diag([wheel.I_m, wheel.I_m, wheel.I_w]))
+    collision = Collision(name=None, origin=np.eye(4), geometry=Geometry(cylinder=Cylinder(radius, 0.02)))
+    link = Link(f"{name}_link", inertial=inertial, collisions=[collision])
+    limit = None if speed is None else Limit(effort=None, velocity=float(speed))
+    joint = UJoint(
+        f"{name}_joint", "continuous", parent, link.name, origin, np.array([0.0, 0.0, 1.0]), limit=limit
+    )
+    return link, joint
+
+
+def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
+    from yourdfpy import Joint as UJoint
+    from yourdfpy import Limit, Link
+
+    inertial = None
+    if body is not None:
+        inertial = _u_inertial(body.mass, body.com, np.diag([0.0, 0.0, body.inertia_z]))
+    links = [Link("base_footprint", inertial=inertial, visuals=_u_visuals(robot.platform_visuals))]
+    joints: list = []
+    platform = robot.platform
+    if isinstance(platform, DifferentialDrive):
+        r, b = platform.wheel_radius, platform.half_track
+        for side, y in (("wheel_right", -b), ("wheel_left", b)):
+            link, joint = _wheel(side, "base_footprint", (0.0, y, r), r, platform.wheel_speed_max, wheel)
+            links.append(link)
+            joints.append(joint)
+    elif isinstance(platform, CarLike):
+        r = CAR_WHEEL_RADIUS
+        for side, y in (("wheel_rear_right", -r), ("wheel_rear_left", r)):
+            link, joint = _wheel(side, "base_footprint", (0.0, y, r), r, None, None)
+            links.append(link)
+            joints.append(joint)
+        origin = np.eye(4)
+        origin[:3, 3] = (platform.length, 0.0, r)
+        links.append(Link("steering_link"))
+        joints.append(
+            UJoint(
+                "steering_joint",
+                "revolute",
+                "base_footprint",
+                "steering_link",
+                origin,
+                np.array([0.0, 0.0, 1.0]),
+                limit=Limit(effort=None, velocity=None, lower=-math.pi / 2, upper=math.pi / 2),
+            )
+        )
+        link, joint = _wheel("wheel_front", "steering_link", (0.0, 0.0, 0.0), r, None, None)
+        links.append(link)
+        joints.append(joint)
+    elif not isinstance(platform, Omnidirectional):
+        raise ModelError(f"write_urdf: no URDF form for a {type(platform).__name__} platform")
+    return links, joints
+
+
+def _limit_value(value: float):
+    return None if not math.isfinite(value) else float(value)
+
+
+def write_urdf(robot: "MobileManipulator | DynamicModel", path) -> Path:
+    """Write a robot (or a :class:`mobman.dynamics.DynamicModel`, with its platform body and wheels) as URDF.
+
+    The platform link is ``base_footprint``; arm ``i``'s joints keep their names (prefixed by the arm's name
+    when there are several arms) and end in the fixed joint to ``<prefix>tool_link``. Read it back with
+    ``read_urdf(path, tip=[tool links], platform=...)`` (``"car"`` for a car, ``"omnidirectional"`` for a
+    holonomic platform): :func:`urdf_tips` gives the tips. Returns the path written.
+    """
+    from yourdfpy import URDF, Inertial, Limit, Link, Robot
+    from yourdfpy import Joint as UJoint
+
+    from mobman.dynamics.inertia import DynamicModel
+
+    body = wheel = None
+    if isinstance(robot, DynamicModel):
+        body, wheel, robot = robot.body, robot.wheel, robot.robot
+    links, joints = _platform_urdf(robot, body, wheel)
+    for i, (arm, mount) in enumerate(zip(robot.arms, robot.mounts)):
+        prefix = _arm_prefix(robot, i)
+        parent, previous = "base_footprint", spatial.as_matrix(mount.transform)
+        for joint in arm.joints:
+            axis = np.asarray(joint.axis)
+            origin = previous @ spatial.as_matrix(joint.origin) @ _motion(joint.kind, axis, joint.offset)
+            bounded = math.isfinite(joint.lower) or math.isfinite(joint.upper)
+            kind = joint.kind if joint.kind == "prismatic" or bounded else "continuous"
+            limit = Limit(
+                effort=joint.effort_max or 0.0,
+                velocity=joint.velocity_max or 0.0,
+                lower=_limit_value(joint.lower) if kind != "continuous" else None,
+                upper=_limit_value(joint.upper) if kind != "continuous" else None,
+            )
+            inertial: Inertial | None = None
+            if joint.inertial is not None:
+                inertial = _u_inertial(joint.inertial.mass, joint.inertial.com, joint.inertial.inertia)
+            child = f"{prefix}{joint.name}_link"
+            links.append(Link(child, inertial=inertial, visuals=_u_visuals(joint.visuals)))
+            joints.append(UJoint(f"{prefix}{joint.name}", kind, parent, child, origin, axis, limit=limit))
+            parent, previous = child, np.eye(4)
+        tool = f"{prefix}tool_link"
+        links.append(Link(tool))
+        joints.append(UJoint(f"{prefix}tool_joint", "fixed", parent, tool, spatial.as_matrix(arm.tool)))
+    file = Path(path)
+    URDF(
+        Robot(robot.name, links=links, joints=joints), build_scene_graph=False, load_meshes=False
+    ).write_xml_file(str(file))
+    return file
+
+
+def _arm_prefix(robot: MobileManipulator, index: int) -> str:
+    if len(robot.arms) == 1:
+        return ""
+    labels = [a.name for a in robot.arms]
+    if len(set(labels)) != len(labels):
+        labels = [f"arm{k + 1}" for k in range(len(robot.arms))]
+    return f"{labels[index]}_"
+
+
+def urdf_tips(robot: MobileManipulator) -> tuple[str, ...]:
+    """The tool links that :func:`write_urdf` writes, one per arm."""
+    return tuple(f"{_arm_prefix(robot, i)}tool_link" for i in range(len(robot.arms)))
