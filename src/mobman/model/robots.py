@@ -212,15 +212,17 @@ def yamamoto_dual_arm(
     )
 
 
-ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
+PAPER_ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
     "bayle-planar": bayle_planar,
     "bayle-rrp": bayle_rrp,
     "manus-platform": manus_platform,
     "korayem-planar": korayem_planar,
     "tchon-car-rtr": tchon_car_rtr,
     "yamamoto-dual-arm": yamamoto_dual_arm,
-    **FACTORIES,  # the real robots, read from their URDF files (mobman[robots]; model/real_robots.py)
 }
+
+# the papers' robots, then the real robots read from their URDF files (mobman[robots]; model/real_robots.py)
+ROBOTS: dict[str, Callable[..., MobileManipulator]] = {**PAPER_ROBOTS, **FACTORIES}
 
 
 def build(name: str, **params: float) -> MobileManipulator:
