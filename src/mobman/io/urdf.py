@@ -136,7 +136,7 @@ class UrdfModel:
 
     ``body`` (the platform with everything off the chains, wheels included) and ``wheel`` (spin inertia) are
     None where the URDF has no inertials; ``effort_limits``: the actuators' effort limits in the order of
-    :attr:`mobman.dynamics.DynamicModel.actuator_names` (wheels, then joints; None where the URDF gives none).
+    :func:`mobman.dynamics.inertia.actuator_names` (wheels, then joints; None where the URDF gives none).
     """
 
     robot: MobileManipulator
@@ -155,20 +155,12 @@ class UrdfModel:
 
     def torque_limits(self) -> np.ndarray:
         """τ_max of every actuator from the URDF's effort limits (ModelError naming one that is missing)."""
-        names = self.actuator_names
-        missing = [n for n, v in zip(names, self.effort_limits) if v is None]
+        from mobman.dynamics.inertia import actuator_names
+
+        missing = [n for n, v in zip(actuator_names(self.robot), self.effort_limits) if v is None]
         if missing:
             raise ModelError(f"{self.robot.name}: the URDF gives no effort limit for {', '.join(missing)}")
         return np.asarray(self.effort_limits, dtype=float)
-
-    @property
-    def actuator_names(self) -> tuple[str, ...]:
-        robot = self.robot
-        if isinstance(robot.platform, DifferentialDrive):
-            platform = ("wheel_right", "wheel_left")
-        else:
-            platform = tuple(f"platform_{n}" for n in robot.platform.control_names)
-        return platform + tuple(robot.coordinate_names[robot.n_platform :])
 
 
 # --- reading ---------------------------------------------------------------------------------------
@@ -298,7 +290,7 @@ def _poses(tree: _Tree, locked: Mapping[str, float]) -> dict[str, np.ndarray]:
     return poses
 
 
-def _groups(tree: _Tree, base: str, starts: dict[str, tuple[int, int]]) -> dict[str, tuple[int, int] | None]:
+def _groups(tree: _Tree, starts: dict[str, tuple[int, int]]) -> dict[str, tuple[int, int] | None]:
     """The body each link moves with: (arm, joint index) of the chain joint above it, None for the platform.
 
     ``starts`` maps the child link of every chain joint to its (arm, index). Links above the base move with
@@ -419,7 +411,7 @@ def _geometry_radius(link, axle_local: np.ndarray, directory: str) -> float | No
     return None
 
 
-def _wheel_pair(tree, candidates, wheels, poses, base_pose, directory):
+def _wheel_pair(tree, candidates, wheels, poses, base_pose):
     """The (right, left) wheel joints with their axle data, or ModelError listing the continuous joints."""
     inv = np.linalg.inv(base_pose)
 
@@ -547,7 +539,7 @@ def read_urdf(
         chains.append(chain)
     starts = {j.child: (i, k) for i, chain in enumerate(chains) for k, j in enumerate(chain)}
     poses = _poses(tree, locked)
-    groups = _groups(tree, base, starts)
+    groups = _groups(tree, starts)
     on_chain = {j.name for chain in chains for j in chain}
     passive = [
         j for j in urdf.robot.joints if j.type in _MOVING and j.name not in on_chain and j.name not in locked
@@ -562,7 +554,7 @@ def read_urdf(
     wheel_pair = None
     platform_model: Platform
     if platform in ("auto", "differential", "car"):
-        right, left, p_r, p_l = _wheel_pair(tree, continuous, wheels, poses, base_pose, directory)
+        right, left, p_r, p_l = _wheel_pair(tree, continuous, wheels, poses, base_pose)
         wheel_pair = (right, left)
         midpoint = 0.5 * (p_r + p_l)
         offset = np.array([midpoint[0], midpoint[1], 0.0])

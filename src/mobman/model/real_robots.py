@@ -16,9 +16,9 @@ Modelling choices:
   would not follow it. The prismatic wheel suspensions and the caster swivels are passive.
 - ``stretch``: Stretch 3 (SE3) with the DW3 wrist and the SG3 gripper; differential base to ``link_grasp_center``:
   the lift, the four telescoping arm segments as the URDF's four prismatic joints (on the robot one motor drives
-  them together), wrist yaw, pitch and roll. The wheel radius comes from the wheel's collision mesh; the URDF
-  gives no wheel speed limit, so the platform has none (pass ``velocity limits`` by building the robot from the
-  URDF with :func:`mobman.io.urdf.read_urdf` and replacing its platform where they are needed).
+  them together), wrist yaw, pitch and roll. The wheel radius comes from the wheel's collision mesh. The URDF
+  gives no wheel speed or effort limit, so the platform has no velocity limits (the normalised measures and the
+  kinematic ellipsoid need them) and the dynamic ellipsoid no wheel torque limits.
 """
 
 from __future__ import annotations
