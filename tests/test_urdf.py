@@ -316,3 +316,16 @@ def test_tiago_round_trips_through_urdf(tmp_path):
     q = R.sample_configurations(model.robot, 32, seed=5)
     jbar = np.asarray(K.reduced_jacobian(model.robot, q))
     assert np.abs(np.asarray(K.reduced_jacobian(back.robot, q)) - jbar).max() < 1e-12
+
+
+def test_missing_extra_gives_the_install_line(monkeypatch, capsys):
+    from mobman.model import real_robots
+
+    absent = real_robots.RealRobot("no-such-distribution", "robot.urdf", ("tool",), "base_link")
+    with pytest.raises(ModelError, match=r"no-such-distribution: pip install 'mobman\[robots\]'"):
+        absent.path()
+    monkeypatch.setitem(real_robots.REAL_ROBOTS, "stretch", absent)
+    main(["robots", "--json"])
+    entries = {e["name"]: e for e in json.loads(capsys.readouterr().out)["robots"]}
+    assert entries["stretch"]["summary"].endswith("needs pip install 'mobman[robots]'")
+    assert entries["stretch"]["coordinates"] == []
