@@ -1,4 +1,5 @@
-"""Reading and writing: JSON results, TOML spec helpers (:mod:`.spec`), robot description files (:mod:`.robot_file`)."""
+"""Reading and writing: JSON results, TOML spec helpers (:mod:`.spec`), robot description files (:mod:`.robot_file`),
+URDF files in and out (:mod:`.urdf`, with the ``robots`` extra)."""
 
 from mobman.io.results import dump_json, to_jsonable
 
