@@ -35,7 +35,7 @@ from mobman.model import (
 )
 from mobman.model.spatial import euler_angles, euler_matrix
 
-ALL = [f() for f in robots.ROBOTS.values()]
+ALL = [f() for f in robots.PAPER_ROBOTS.values()]  # the real robots: test_urdf_pinocchio.py
 angles = st.floats(-math.pi, math.pi)
 
 

@@ -119,8 +119,14 @@ def symbolic_analysis(robot: MobileManipulator) -> dict:
 
 @app.command("analyze")
 def analyze_command(
-    robot_name: str = typer.Argument(..., metavar="ROBOT", help="A built-in robot (see `mobman robots`)."),
+    robot_name: str = typer.Argument(
+        ..., metavar="ROBOT", help="A built-in robot (see `mobman robots`), a .toml or a .urdf file."
+    ),
     param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
+    tip: list[str] = typer.Option(
+        None, "--tip", help="URDF file: end-effector link, one per arm (default arm_tool_link)."
+    ),
+    base: str = typer.Option(None, "--base", help="URDF file: the platform link (default base_footprint)."),
     q: str = typer.Option(
         None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."
     ),
@@ -133,7 +139,7 @@ def analyze_command(
     ),
 ) -> None:
     """Kinematics, redundancy (M, δ, D, R, D̄, R̄), singularities and manipulability at configurations."""
-    robot = load_robot(robot_name, param)
+    robot = load_robot(robot_name, param, {"tip": tip, "base": base})
     configurations = _configurations(robot, q, q_file)
     result = analysis(robot, configurations)
     sym = symbolic_analysis(robot) if symbolic else None

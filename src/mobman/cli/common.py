@@ -84,8 +84,15 @@ def not_reached(command: str, reason: str) -> None:
     raise typer.Exit(NOT_REACHED)
 
 
-def load_robot(name: str, params: list[str] | None = None) -> MobileManipulator:
-    """A built-in robot by name with --param overrides, or a robot description file (a path ending in .toml)."""
+def load_robot(name: str, params: list[str] | None = None, urdf: dict | None = None) -> MobileManipulator:
+    """A built-in robot by name with --param overrides, a robot description file (a path ending in .toml), or
+    a URDF file (a path ending in .urdf, read by :func:`mobman.io.urdf.load_urdf` with the ``urdf`` options)."""
+    if name.endswith(".urdf"):
+        from mobman.io.urdf import load_urdf
+
+        if params:
+            raise InputError("--param applies to built-in robots; a URDF file takes --tip and --base")
+        return load_urdf(name, **{k: v for k, v in (urdf or {}).items() if v})
     if name.endswith(".toml"):
         from mobman.io import robot_file
 

@@ -35,6 +35,8 @@ com = [0.0, 0.0, 0.0]
 inertia = [0.0, 0.0, 0.0]
 arm = 0
 
+# actuators = "urdf"                 # a real robot (tiago, …): |τ| ≤ the URDF's effort limits; without
+                                     # [platform], [wheel] and [[links]] its URDF inertials are used
 [actuators.theta1]                   # one table per limited actuator (others are unlimited)
 kind = "dc_motor"                    # dc_motor: stall_torque, no_load_speed | torque_box: lower, upper
 stall_torque = 63.22
@@ -94,10 +96,17 @@ def _vector(table: dict, key: str, field: str, size: tuple[int, ...], default=No
 
 
 def _inertials(data: dict, robot):
-    """Platform body, wheel, link inertials attached to the robot, payload."""
+    """Platform body, wheel, link inertials attached to the robot, payload. A real robot (``tiago``, …) given
+    without [platform], [wheel] and [[links]] takes them from its URDF."""
+    from dataclasses import replace
+
     from mobman import dynamics as dyn
     from mobman.model.arm import LinkInertial
+    from mobman.model.real_robots import REAL_ROBOTS, urdf_model
 
+    if robot.name in REAL_ROBOTS and not any(k in data for k in ("platform", "wheel", "links")):
+        gravity = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
+        return replace(urdf_model(robot.name).dynamic_model(gravity), payload=_payload(data, robot))
     platform = fields.table(data, "platform", "platform")
     fields.keys(platform, "platform", ("mass", "inertia_z", "com"))
     body = fields.build(
@@ -140,6 +149,22 @@ def _inertials(data: dict, robot):
                 f"links: arm {arm} has {n} links ({joints}), got {len(inertials)} [[links]] entries"
             )
         robot = robot.with_link_inertials(inertials, arm)
+    gravity = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
+    return fields.build(
+        "spec",
+        dyn.DynamicModel,
+        robot=robot,
+        body=body,
+        wheel=wheel,
+        payload=_payload(data, robot),
+        gravity=gravity,
+    )
+
+
+def _payload(data: dict, robot):
+    """The [payload] table's load shape (per kg), a point mass at arm 0's tool by default."""
+    from mobman import dynamics as dyn
+
     payload = dyn.Payload(1.0)
     payload_table = fields.table(data, "payload", "payload", required=False)
     if payload_table is not None:
@@ -155,15 +180,14 @@ def _inertials(data: dict, robot):
             inertia=_vector(payload_table, "inertia", "payload", (3, 9), (0.0,) * 9),
             arm=arm,
         )
-    gravity = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
-    return fields.build(
-        "spec", dyn.DynamicModel, robot=robot, body=body, wheel=wheel, payload=payload, gravity=gravity
-    )
+    return payload
 
 
-def _actuators(data: dict, names: tuple[str, ...]) -> dict:
+def _actuators(data: dict, names: tuple[str, ...], robot_name: str) -> dict:
     from mobman.dynamics.actuators import DCMotor, TorqueBox
 
+    if data.get("actuators") == "urdf":
+        return _urdf_actuators(names, robot_name)
     table = fields.table(data, "actuators", "actuators")
     if not table:
         raise InputError(
@@ -184,6 +208,20 @@ def _actuators(data: dict, names: tuple[str, ...]) -> dict:
         factory = DCMotor if kind == "dc_motor" else TorqueBox
         result[name] = fields.build(field, factory, **{k: fields.number(entry, k, field) for k in keys})
     return result
+
+
+def _urdf_actuators(names: tuple[str, ...], robot_name: str) -> dict:
+    """``actuators = "urdf"``: |τ| ≤ the URDF's effort limit for every actuator that has one (a real robot)."""
+    from mobman.dynamics.actuators import TorqueBox
+    from mobman.model.real_robots import REAL_ROBOTS, urdf_model
+
+    if robot_name not in REAL_ROBOTS:
+        raise InputError(
+            f'actuators: "urdf" takes the effort limits of a real robot ({", ".join(REAL_ROBOTS)}), '
+            f"not {robot_name!r}"
+        )
+    limits = urdf_model(robot_name).effort_limits
+    return {n: TorqueBox.symmetric(v) for n, v in zip(names, limits) if v is not None}
 
 
 def _motion(data: dict, robot, max_steps: int):
@@ -240,7 +278,7 @@ def parse(data: dict, base: Path | None = None, max_steps: int = MAX_STEPS) -> L
     fields.keys(data, "spec", TOP_KEYS)
     robot = fields.robot(data, base)
     model = _inertials(data, robot)
-    actuators = _actuators(data, model.actuator_names)
+    actuators = _actuators(data, model.actuator_names, model.robot.name)
     t, q, eta, motion = _motion(data, model.robot, max_steps)
     return LoadSpec(model, t, q, eta, actuators, motion)
 

@@ -1,4 +1,5 @@
-"""``mobman robots``: list the built-in robots with their parameters and coordinates."""
+"""``mobman robots``: list the built-in robots with their parameters and coordinates (the real robots, read
+from URDF files, with the install line of the ``robots`` extra when it is missing)."""
 
 from __future__ import annotations
 
@@ -6,10 +7,12 @@ import inspect
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from mobman.cli import app
 from mobman.io import dump_json
+from mobman.model.real_robots import EXTRA, REAL_ROBOTS
 from mobman.model.robots import ROBOTS
 
 
@@ -18,6 +21,18 @@ def robots_command(json_output: bool = typer.Option(False, "--json", help="Print
     """List the built-in robots, their parameters (defaults) and coordinate names."""
     entries = []
     for name, factory in ROBOTS.items():
+        if name in REAL_ROBOTS and not REAL_ROBOTS[name].available():
+            summary = (factory.__doc__ or "").strip().splitlines()[0]
+            entries.append(
+                {
+                    "name": name,
+                    "parameters": {},
+                    "coordinates": [],
+                    "task": [],
+                    "summary": f"{summary}; needs {EXTRA}",
+                }
+            )
+            continue
         robot = factory()
         defaults = {p.name: p.default for p in inspect.signature(factory).parameters.values()}
         entries.append(
@@ -36,5 +51,7 @@ def robots_command(json_output: bool = typer.Option(False, "--json", help="Print
         table.add_column(column, overflow="fold")
     for e in entries:
         params = ", ".join(f"{k}={v}" for k, v in e["parameters"].items()) or "—"
-        table.add_row(e["name"], params, ", ".join(e["coordinates"]), ", ".join(e["task"]), e["summary"])
+        table.add_row(
+            e["name"], params, ", ".join(e["coordinates"]), ", ".join(e["task"]), escape(e["summary"])
+        )
     Console().print(table)

@@ -146,16 +146,21 @@ class DynamicModel:
     @property
     def actuator_names(self) -> tuple[str, ...]:
         """Names of the actuators in τ order: wheels (or platform quasi-velocities), then the arm joints."""
-        robot = self.robot
-        if isinstance(robot.platform, DifferentialDrive):
-            platform = ("wheel_right", "wheel_left")
-        else:
-            platform = tuple(f"platform_{n}" for n in robot.platform.control_names)
-        return platform + tuple(robot.coordinate_names[robot.n_platform :])
+        return actuator_names(self.robot)
 
     def with_payload(self, payload: Payload | None) -> "DynamicModel":
         """The same model carrying another payload (or none)."""
         return replace(self, payload=payload)
+
+
+def actuator_names(robot: MobileManipulator) -> tuple[str, ...]:
+    """The actuators of a robot in τ order: both wheels of a differential drive (or one per platform
+    quasi-velocity), then the arm joints."""
+    if isinstance(robot.platform, DifferentialDrive):
+        platform = ("wheel_right", "wheel_left")
+    else:
+        platform = tuple(f"platform_{n}" for n in robot.platform.control_names)
+    return platform + tuple(robot.coordinate_names[robot.n_platform :])
 
 
 def yamamoto_platform() -> tuple[PlatformBody, Wheel]:
@@ -164,4 +169,4 @@ def yamamoto_platform() -> tuple[PlatformBody, Wheel]:
     return PlatformBody(94.0, 6.609), Wheel(5.0, 0.01, 0.135)
 
 
-__all__ = ["DynamicModel", "Payload", "PlatformBody", "Wheel", "yamamoto_platform"]
+__all__ = ["DynamicModel", "Payload", "PlatformBody", "Wheel", "actuator_names", "yamamoto_platform"]

@@ -1,5 +1,6 @@
 """Reading and writing: JSON results, numbers typed by users (:mod:`.numbers`), files and results folders written
-atomically (:mod:`.output`), TOML spec helpers (:mod:`.spec`), robot description files (:mod:`.robot_file`)."""
+atomically (:mod:`.output`), TOML spec helpers (:mod:`.spec`), robot description files (:mod:`.robot_file`), URDF
+files in and out (:mod:`.urdf`, with the ``robots`` extra)."""
 
 from mobman.io.results import dump_json, to_jsonable
 

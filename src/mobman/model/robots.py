@@ -1,8 +1,9 @@
-"""The papers' robots, every dimension a keyword argument named as in the paper, and a Franka Panda on a
-differential-drive base.
+"""The papers' robots, every dimension a keyword argument named as in the paper, a Franka Panda on a
+differential-drive base, and the real robots.
 
 Where a paper gives no value, the default is a documented choice (see ``docs/kinematics.md``). Each robot
-carries its paper's operational task. On the command line the names use hyphens (``bayle-planar``).
+carries its paper's operational task. On the command line the names use hyphens (``bayle-planar``). The real
+robots (TIAGo, TIAGo dual, Stretch) are read from their URDF files: :mod:`mobman.model.real_robots`.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platform import CarLike, DifferentialDrive
+from mobman.model.real_robots import FACTORIES
 from mobman.model.robot import MobileManipulator, Mount
 from mobman.model.task import Elevation, PlanarAngle, Pose, Position, stack
 
@@ -261,14 +263,21 @@ def panda_differential(v_max: float = 1.0, omega_max: float = 1.5, height: float
     )
 
 
-ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
+PAPER_ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
     "bayle-planar": bayle_planar,
     "bayle-rrp": bayle_rrp,
     "manus-platform": manus_platform,
     "korayem-planar": korayem_planar,
     "tchon-car-rtr": tchon_car_rtr,
     "yamamoto-dual-arm": yamamoto_dual_arm,
+}
+
+# the papers' robots, the Panda on a differential base, then the real robots read from their URDF files
+# (mobman[robots]; model/real_robots.py)
+ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
+    **PAPER_ROBOTS,
     "panda-differential": panda_differential,
+    **FACTORIES,
 }
 
 

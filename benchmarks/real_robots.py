@@ -1,0 +1,176 @@
+"""Benchmark: PAL TIAGo read from its URDF (example-robot-data): J̄ (6 × 10) with w, w2, w5, and the reduced
+dynamics Sᵀ M S and bias, batched and one configuration per call, against Pinocchio on the same URDF.
+
+    python benchmarks/real_robots.py            # 100,000 configurations (kinematics), 10,000 (dynamics)
+    python benchmarks/real_robots.py --smoke    # tiny sizes (CI)
+
+mobman's J̄ rows are the tool position and its ZYX Euler angles (``Position`` + ``EulerAngles("ZYX")``);
+Pinocchio's reference per configuration is ``computeFrameJacobian`` (world-aligned, 6 × 11 with a planar
+root joint), the selection of the v_x, ω_z and chain columns (S), and NumPy's SVD for w, w2, w5. The dynamics
+reference per configuration is Pinocchio's ``crba`` + ``rnea`` (mass matrix and bias) on the same root joint,
+every joint off the chain locked (``buildReducedModel``), as in ``tests/test_urdf_pinocchio.py``. The run
+prints the ratios (Pinocchio's time per configuration over mobman's) and never asserts a timing; it exits with
+an error when mobman and Pinocchio disagree by more than ``AGREEMENT`` (position rows of J̄, and Sᵀ M S with
+the wheels' spin inertia added to Pinocchio's).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+import jax
+import numpy as np
+
+import mobman  # noqa: F401  (float64)
+from mobman import dynamics as dyn
+from mobman import manipulability as mp
+from mobman.dynamics.reduced import reduced_terms
+from mobman.model.real_robots import REAL_ROBOTS, urdf_model
+from mobman.model.task import EulerAngles, Position, stack
+from mobman.redundancy import sample_configurations
+
+from timing import best_time
+
+AGREEMENT = 1e-9
+"""Largest relative difference from Pinocchio the benchmark accepts (it exits with an error above)."""
+
+
+def pinocchio_model(robot):
+    """Pinocchio's TIAGo: planar root joint, every joint off mobman's chain locked at 0."""
+    import pinocchio as pin
+
+    full = pin.buildModelFromUrdf(str(REAL_ROBOTS["tiago"].path()), pin.JointModelPlanar())
+    keep = {j.name for arm in robot.arms for j in arm.joints}
+    locked = [i for i in range(2, full.njoints) if full.names[i] not in keep]
+    return pin.buildReducedModel(full, locked, pin.neutral(full))
+
+
+def pinocchio_q(q: np.ndarray) -> np.ndarray:
+    """(x, y, θ, q_a) → Pinocchio's (x, y, cos θ, sin θ, q_a) (the chain joints keep mobman's order)."""
+    return np.concatenate([q[:, :2], np.cos(q[:, 2:3]), np.sin(q[:, 2:3]), q[:, 3:]], axis=1)
+
+
+def pinocchio_kinematics(model, q_pin: np.ndarray):
+    """Per configuration: frame Jacobian, the S columns, NumPy's SVD and w, w2, w5. Returns the last J̄."""
+    import pinocchio as pin
+
+    data = model.createData()
+    frame = model.getFrameId("arm_tool_link")
+    columns = np.r_[0, 2, 3 : model.nv]
+    aligned = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+    jbar = None
+    for qi in q_pin:
+        jbar = pin.computeFrameJacobian(model, data, qi, frame, aligned)[:, columns]
+        sv = np.linalg.svd(jbar, compute_uv=False)
+        ratio = sv[-1] / sv[0]
+        _ = (np.prod(sv), ratio, np.sqrt(1.0 - ratio**2))
+    return jbar
+
+
+def pinocchio_dynamics(model, q_pin: np.ndarray, v_pin: np.ndarray):
+    """Per configuration: ``crba`` (M) and ``rnea`` at zero acceleration (the bias c + g). Returns the last M."""
+    import pinocchio as pin
+
+    data = model.createData()
+    zero = np.zeros(model.nv)
+    m = None
+    for qi, vi in zip(q_pin, v_pin):
+        m = pin.crba(model, data, qi)
+        pin.rnea(model, data, qi, vi, zero)
+    return np.triu(m) + np.triu(m, 1).T
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=100_000, help="configurations, batched kinematics")
+    parser.add_argument("--n-dynamics", type=int, default=10_000, help="configurations, batched dynamics")
+    parser.add_argument("--single", type=int, default=1_000, help="configurations timed one per call")
+    parser.add_argument("--smoke", action="store_true", help="tiny sizes for CI")
+    args = parser.parse_args(argv)
+    if args.smoke:
+        args.n, args.n_dynamics, args.single = 1_000, 200, 30
+    urdf = urdf_model("tiago")
+    robot = urdf.robot.with_task(stack(Position("xyz"), EulerAngles("ZYX")))
+    model = urdf.dynamic_model()
+    pin_model = pinocchio_model(robot)
+    q = sample_configurations(robot, args.n, seed=0)
+    eta = np.random.default_rng(1).normal(size=(args.n, robot.n_eta))
+    q_device = jax.device_put(q)
+    q_pin = pinocchio_q(q[: args.single])
+    v_pin = np.zeros((args.single, pin_model.nv))
+    v_pin[:, 0], v_pin[:, 2], v_pin[:, 3:] = (
+        eta[: args.single, 0],
+        eta[: args.single, 1],
+        eta[: args.single, 2:],
+    )
+
+    def batched():
+        jbar = mp.system_jacobian(robot, q_device)
+        return jbar, mp.measures(jbar)
+
+    def single():
+        for qi in q[: args.single]:
+            mp.jacobian_and_measures(robot, qi)
+
+    jbar, _ = jax.block_until_ready(batched())
+    t_batch = best_time(batched, 3) / args.n
+    single()
+    t_single = best_time(single, 3) / args.single
+    t_pin = best_time(lambda: pinocchio_kinematics(pin_model, q_pin), 3) / args.single
+
+    nd = args.n_dynamics
+    q_dyn, eta_dyn = jax.device_put(q[:nd]), jax.device_put(eta[:nd])
+
+    def dyn_batched():
+        return dyn.reduced_mass_matrix(model, q_dyn), dyn.reduced_bias(model, q_dyn, eta_dyn)
+
+    def dyn_single():
+        for qi, ei in zip(q[: args.single], eta[: args.single]):
+            reduced_terms(model, qi, ei)
+
+    p_ours, _ = jax.block_until_ready(dyn_batched())
+    t_dyn_batch = best_time(dyn_batched, 3) / nd
+    dyn_single()
+    t_dyn_single = best_time(dyn_single, 3) / args.single
+    t_dyn_pin = best_time(lambda: pinocchio_dynamics(pin_model, q_pin, v_pin), 3) / args.single
+
+    # agreement: position rows of the last configuration's J̄; Sᵀ M S with the wheels' spin inertia
+    last = args.single - 1
+    jbar_pin = pinocchio_kinematics(pin_model, q_pin[last:])
+    err_j = float(np.max(np.abs(jbar_pin[:3] - np.asarray(jbar[last])[:3])))
+    m_pin = pinocchio_dynamics(pin_model, q_pin[last:], v_pin[last:])
+    select = np.zeros((pin_model.nv, robot.n_eta))
+    select[0, 0] = select[2, 1] = 1.0
+    select[3:, 2:] = np.eye(pin_model.nv - 3)
+    p_pin = select.T @ m_pin @ select
+    r, b, i_w = robot.platform.wheel_radius, robot.platform.half_track, model.wheel.I_w
+    p_pin[0, 0] += 2 * i_w / r**2
+    p_pin[1, 1] += 2 * i_w * b**2 / r**2
+    err_p = float(np.max(np.abs(p_pin - np.asarray(p_ours[last])))) / float(np.abs(p_pin).max())
+
+    print(
+        f"TIAGo from its URDF, J̄ 6 × 10 + w, w2, w5; dynamics Sᵀ M S (10 × 10) + bias; device {jax.devices()[0].platform}"
+    )
+    print(f"{'variant':58s} {'µs/config':>10s} {'Pinocchio / mobman':>19s}")
+    rows = [
+        ("J̄ + measures, batched (mobman)", t_batch, t_pin / t_batch),
+        ("J̄ + measures, one configuration per call (mobman)", t_single, t_pin / t_single),
+        ("Pinocchio computeFrameJacobian + columns + NumPy SVD", t_pin, 1.0),
+        ("Sᵀ M S + bias, batched (mobman)", t_dyn_batch, t_dyn_pin / t_dyn_batch),
+        ("Sᵀ M S + bias + B, one configuration per call (mobman)", t_dyn_single, t_dyn_pin / t_dyn_single),
+        ("Pinocchio crba + rnea", t_dyn_pin, 1.0),
+    ]
+    for name, t, ratio in rows:
+        print(f"{name:58s} {1e6 * t:10.3f} {ratio:19.2f}")
+    print(
+        f"max |J̄ position rows − Pinocchio| = {err_j:.1e}, max |Sᵀ M S − Pinocchio| / max |M| = {err_p:.1e}"
+    )
+    if not (err_j <= AGREEMENT and err_p <= AGREEMENT):
+        print("error: mobman and Pinocchio disagree", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

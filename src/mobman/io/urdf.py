@@ -1,0 +1,894 @@
+"""URDF in and out: a mobile manipulator from a robot's URDF file (read with yourdfpy), and back to URDF.
+
+Reading (:func:`load_urdf`, :func:`read_urdf`)
+---------------------------------------------
+- **Chains.** Each arm is the chain of joints from the ``base`` link to one ``tip`` link. URDF joints map one
+  to one onto :class:`mobman.Joint` (fixed ``origin``, then motion about ``axis``): ``revolute`` and
+  ``prismatic`` keep their position, velocity and effort limits; ``continuous`` is a revolute joint without
+  position limits. Fixed joints are folded into the next joint's origin (after the last moving joint, into
+  the arm's tool transform). Joints named in ``locked`` are held at the given value and folded the same way
+  (e.g. a torso shared by two arms, which mobman's arms cannot share). A ``floating`` or ``planar`` joint, or
+  a ``mimic`` joint, on a chain is an error naming it.
+- **Everything off the chains** (wheels, casters, fingers, head, suspension) is passive: held at zero (or
+  its ``locked`` value) and listed in the :class:`UrdfSummary`. Its links move rigidly with the link they
+  hang from, and their inertials and visuals are lumped into it.
+- **Inertials.** Each arm joint carries the lumped inertial of the link it moves (with everything rigidly
+  attached), in the joint frame after its motion: total mass, centre of mass, inertia about it by the
+  parallel-axis theorem. The platform body (base link and all that hangs from it, wheels included) becomes a
+  :class:`mobman.dynamics.PlatformBody`; only its mass, centre of mass and inertia about the vertical enter
+  the planar motion of the platform. The wheels' spin inertia about their axle (a_wᵀ I a_w, the same for both
+  wheels up to 1e-12, else the mean) becomes :class:`mobman.dynamics.Wheel` ``(0, I_w, 0)``: the wheels' mass
+  and their inertia about the vertical are already in the body.
+- **Platform.** ``platform="auto"`` (or ``"differential"``) looks for two ``continuous`` joints off the chains
+  with a common horizontal axle (parallel axes along the line joining the joint origins, perpendicular to the
+  base's x axis); if several pairs qualify, the pair with velocity or effort limits (the driven wheels, not the
+  casters) is taken; ``wheels=(right, left)`` names them. The wheel radius comes from the wheel link's
+  collision cylinder or sphere (else its collision mesh's extent across the axle, else the visual geometry),
+  the half track from the joint origins; ``wheel_radius=`` and ``half_track=`` override both. The platform
+  frame (the origin of q_p = (x, y, θ)) is the axle midpoint projected on the base frame's xy plane, axes of
+  the base frame; the base → platform offset is folded into each arm's first joint. ``"omnidirectional"``
+  puts q_p at the base frame.
+- **Velocity limits.** A per-wheel speed limit |φ̇| ≤ φ̇_max makes the admissible (v, ω) set the diamond
+  |v|/(r φ̇_max) + |ω|/(r φ̇_max / b) ≤ 1 (Yamamoto & Yun eq. 23–26: v = r(φ̇_r + φ̇_l)/2,
+  ω = r(φ̇_r − φ̇_l)/(2b)). The platform keeps ``wheel_speed_max``: the kinematic ellipsoids use the diamond
+  exactly (wheel coordinates), and the normalised measures (Nait-Chabane's R) use its vertices
+  v_max = r φ̇_max, ω_max = r φ̇_max / b, each reached with the other quasi-velocity zero.
+- **Visuals** (boxes, cylinders, spheres, meshes) are recorded as :class:`mobman.model.visual.Visual` in the
+  frame of the platform or of the joint that moves them, for the viewer; ``package://`` and relative mesh
+  paths are resolved from the URDF's location (yourdfpy's resolver, walking up its folders). A mesh that
+  cannot be found is a warning and is left out, not an error.
+- **Errors** name the link or joint: a tip that is not below the base, no wheel pair (with the continuous
+  joints seen), a shared moving joint, a floating or mimic joint on a chain, a file that is not URDF or
+  cannot be read. A ``.xacro`` file must be expanded first: ``xacro robot.urdf.xacro > robot.urdf``.
+
+Writing (:func:`write_urdf`)
+----------------------------
+Every built-in robot writes to a URDF that reads back to the same ξ, J̄ and M: the platform link
+``base_footprint`` (the platform frame), for a differential drive two continuous wheel joints at (0, ±b, r)
+with cylinder collisions of radius r and the per-wheel speed limit, for a car a steering joint and its front
+wheel (read back with ``platform="car"``); each arm's mount and joint offsets folded into the joint origins.
+An arm with a coupling (motion = C q_a, which URDF cannot state) is written in its motion variables: the URDF's
+coordinates are C q_a. Given a :class:`mobman.dynamics.DynamicModel`, the platform body and the wheels are
+written as link inertials too.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Mapping, Sequence
+
+import numpy as np
+
+from mobman.errors import InputError, ModelError
+from mobman.model import spatial
+from mobman.model.arm import Arm, Joint, LinkInertial
+from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional, Platform
+from mobman.model.robot import MobileManipulator
+from mobman.model.visual import Visual
+
+if TYPE_CHECKING:
+    from mobman.dynamics.inertia import DynamicModel, PlatformBody, Wheel
+
+PLATFORMS = ("auto", "differential", "car", "omnidirectional")
+_MOVING = ("revolute", "continuous", "prismatic")
+_AXLE_TOL = 1e-4  # alignment tolerance of wheel axles (URDF angles are often rounded: 1.5708 for π/2)
+
+
+@dataclass(frozen=True)
+class UrdfSummary:
+    """What :func:`read_urdf` took from a URDF file and what it left out.
+
+    ``chains``: per arm, the joints kept (base to tip); ``folded``: fixed joints folded into origins;
+    ``locked``: joints held at a value; ``passive``: moving joints off the chains, held at zero (their links
+    lumped into the link they hang from); ``wheels``: (right, left) wheel joints; ``platform_limits``: how the
+    platform's velocity limits were obtained; ``missing_meshes``: mesh files that could not be found.
+    """
+
+    path: str
+    name: str
+    base: str
+    tips: tuple[str, ...]
+    platform: str
+    chains: tuple[tuple[str, ...], ...]
+    folded: tuple[str, ...]
+    locked: tuple[tuple[str, float], ...]
+    passive: tuple[str, ...]
+    wheels: tuple[str, str] | None = None
+    wheel_radius: float | None = None
+    half_track: float | None = None
+    reference_point: tuple[float, float] = (0.0, 0.0)
+    platform_limits: str = ""
+    missing_meshes: tuple[str, ...] = ()
+
+    def lines(self) -> list[str]:
+        """The summary as readable lines."""
+        out = [f"{self.name} from {self.path}: base {self.base}, platform {self.platform}"]
+        for tip, chain in zip(self.tips, self.chains):
+            out.append(f"arm to {tip}: {len(chain)} joints ({', '.join(chain)})")
+        if self.wheels is not None:
+            out.append(
+                f"wheels {self.wheels[0]} (right), {self.wheels[1]} (left): radius {self.wheel_radius:.6g} m, "
+                f"half track {self.half_track:.6g} m; platform frame at the axle midpoint "
+                f"({self.reference_point[0]:.6g}, {self.reference_point[1]:.6g}) in {self.base}"
+            )
+        if self.platform_limits:
+            out.append(self.platform_limits)
+        out.append(f"fixed joints folded: {len(self.folded)}")
+        if self.locked:
+            out.append("locked: " + ", ".join(f"{n} = {v:.6g}" for n, v in self.locked))
+        if self.passive:
+            out.append(f"passive joints off the chains, held at 0: {', '.join(self.passive)}")
+        if self.missing_meshes:
+            out.append(f"meshes not found (not drawn): {', '.join(self.missing_meshes)}")
+        return out
+
+    def __str__(self) -> str:
+        return "\n".join(self.lines())
+
+
+@dataclass(frozen=True)
+class UrdfModel:
+    """A robot read from a URDF file, with what the kinematic model does not hold.
+
+    ``body`` (the platform with everything off the chains, wheels included) and ``wheel`` (spin inertia) are
+    None where the URDF has no inertials; ``effort_limits``: the actuators' effort limits in the order of
+    :func:`mobman.dynamics.inertia.actuator_names` (wheels, then joints; None where the URDF gives none).
+    """
+
+    robot: MobileManipulator
+    summary: UrdfSummary
+    body: "PlatformBody | None" = None
+    wheel: "Wheel | None" = None
+    effort_limits: tuple[float | None, ...] = field(default=())
+
+    def dynamic_model(self, gravity=(0.0, 0.0, -9.81)) -> "DynamicModel":
+        """The :class:`mobman.dynamics.DynamicModel` of the robot (ModelError where an inertial is missing)."""
+        from mobman.dynamics.inertia import DynamicModel
+
+        if self.body is None:
+            raise ModelError(f"{self.robot.name}: the URDF gives no inertial for the platform body")
+        return DynamicModel(self.robot, self.body, self.wheel, None, gravity)
+
+    def torque_limits(self) -> np.ndarray:
+        """τ_max of every actuator from the URDF's effort limits (ModelError naming one that is missing)."""
+        from mobman.dynamics.inertia import actuator_names
+
+        missing = [n for n, v in zip(actuator_names(self.robot), self.effort_limits) if v is None]
+        if missing:
+            raise ModelError(f"{self.robot.name}: the URDF gives no effort limit for {', '.join(missing)}")
+        return np.asarray(self.effort_limits, dtype=float)
+
+
+# --- reading ---------------------------------------------------------------------------------------
+
+
+def _parse(path) -> tuple["object", Path]:
+    import yourdfpy
+
+    file = Path(path)
+    if file.suffix == ".xacro":
+        target = file.stem if file.stem.endswith(".urdf") else file.stem + ".urdf"
+        raise InputError(
+            f"{file}: a xacro file; expand it to URDF first: xacro {file.name} > {target} "
+            "(the xacro tool: pip install xacro, or ROS's xacro package)"
+        )
+    if not file.is_file():
+        raise InputError(f"{file}: no such file")
+    try:
+        text = file.read_text(errors="replace")
+    except OSError as exc:
+        raise InputError(f"{file}: cannot read ({exc.strerror})") from None
+    if "<xacro:" in text:
+        raise InputError(
+            f"{file}: contains xacro macros; expand it to URDF first: xacro {file.name} > expanded.urdf"
+        )
+    if "<robot" not in text:
+        raise InputError(f"{file}: not a URDF file (no <robot> element)")
+    try:
+        urdf = yourdfpy.URDF.load(
+            str(file),
+            build_scene_graph=False,
+            build_collision_scene_graph=False,
+            load_meshes=False,
+            load_collision_meshes=False,
+        )
+    except Exception as exc:  # noqa: BLE001 - any parser failure is a bad file
+        raise InputError(f"{file}: not a readable URDF file ({type(exc).__name__}: {exc})") from None
+    if urdf.robot is None or not urdf.robot.links:
+        raise InputError(f"{file}: not a URDF file (no links)")
+    return urdf, file
+
+
+def _motion(kind: str, axis: np.ndarray, value: float) -> np.ndarray:
+    t = np.eye(4)
+    if kind == "prismatic":
+        t[:3, 3] = value * axis
+    else:
+        t[:3, :3] = _rodrigues(axis, value)
+    return t
+
+
+def _rodrigues(axis: np.ndarray, angle: float) -> np.ndarray:
+    k = spatial.skew(axis)
+    return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * k @ k
+
+
+def _origin(joint) -> np.ndarray:
+    return np.eye(4) if joint.origin is None else np.asarray(joint.origin, dtype=float)
+
+
+def _axis(joint) -> np.ndarray:
+    axis = np.array([1.0, 0.0, 0.0]) if joint.axis is None else np.asarray(joint.axis, dtype=float)
+    norm = np.linalg.norm(axis)
+    if not norm > 0:
+        raise ModelError(f"URDF joint {joint.name!r}: zero axis")
+    return axis / norm
+
+
+def _limit(value) -> float | None:
+    return None if value is None or not value > 0 else float(value)
+
+
+@dataclass
+class _Tree:
+    """The URDF's kinematic tree: joints by name and by child link, children per link, the root link."""
+
+    joints: dict
+    parent_joint: dict
+    children: dict
+    links: dict
+    root: str
+
+    @classmethod
+    def of(cls, robot) -> "_Tree":
+        joints = {j.name: j for j in robot.joints}
+        parent_joint = {j.child: j for j in robot.joints}
+        children: dict = {}
+        for j in robot.joints:
+            children.setdefault(j.parent, []).append(j)
+        links = {link.name: link for link in robot.links}
+        roots = [name for name in links if name not in parent_joint]
+        if len(roots) != 1:
+            raise InputError(
+                f"URDF {robot.name!r}: expected one root link, found {', '.join(roots) or 'none'}"
+            )
+        return cls(joints, parent_joint, children, links, roots[0])
+
+    def path(self, base: str, tip: str) -> list:
+        """Joints from ``base`` down to ``tip`` (ModelError when tip is not below base)."""
+        for name, what in ((base, "base"), (tip, "tip")):
+            if name not in self.links:
+                raise ModelError(f"URDF: no link named {name!r} ({what}); links: {', '.join(self.links)}")
+        chain, link = [], tip
+        while link != base:
+            joint = self.parent_joint.get(link)
+            if joint is None:
+                raise ModelError(
+                    f"URDF: tip link {tip!r} is not below base link {base!r} (its chain ends at root {link!r})"
+                )
+            chain.append(joint)
+            link = joint.parent
+        return chain[::-1]
+
+
+def _poses(tree: _Tree, locked: Mapping[str, float]) -> dict[str, np.ndarray]:
+    """Pose of every link in the root frame with each moving joint at its locked value or zero."""
+    poses = {tree.root: np.eye(4)}
+    stack = [tree.root]
+    while stack:
+        link = stack.pop()
+        for j in tree.children.get(link, []):
+            t = poses[link] @ _origin(j)
+            if j.type in _MOVING:
+                t = t @ _motion(j.type, _axis(j), locked.get(j.name, 0.0))
+            poses[j.child] = t
+            stack.append(j.child)
+    return poses
+
+
+def _groups(tree: _Tree, starts: dict[str, tuple[int, int]]) -> dict[str, tuple[int, int] | None]:
+    """The body each link moves with: (arm, joint index) of the chain joint above it, None for the platform.
+
+    ``starts`` maps the child link of every chain joint to its (arm, index). Links above the base move with
+    the platform too.
+    """
+    groups: dict[str, tuple[int, int] | None] = {tree.root: starts.get(tree.root)}
+    stack = [tree.root]
+    while stack:
+        link = stack.pop()
+        for j in tree.children.get(link, []):
+            groups[j.child] = starts.get(j.child, groups[link])
+            stack.append(j.child)
+    return groups
+
+
+def _lump(parts: list[tuple[float, np.ndarray, np.ndarray]]) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """(mass, com, inertia about com) of rigid parts given as (mass, com, inertia about own com) in one frame
+    (parallel-axis theorem; a part of zero mass adds its inertia only)."""
+    if not parts:
+        return None
+    mass = sum(m for m, _, _ in parts)
+    com = sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3)
+    inertia = np.zeros((3, 3))
+    for m, c, i in parts:
+        d = c - com
+        inertia += i + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return mass, com, 0.5 * (inertia + inertia.T)
+
+
+def _inertial_parts(tree: _Tree, links: list[str], frame: np.ndarray, poses) -> list:
+    """The inertials of ``links`` expressed in the frame of pose ``frame`` (root coordinates)."""
+    inv = np.linalg.inv(frame)
+    parts = []
+    for name in links:
+        inertial = tree.links[name].inertial
+        if inertial is None:
+            continue
+        mass = float(inertial.mass or 0.0)
+        i_local = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia, dtype=float)
+        if mass < 0 or (mass == 0 and not np.any(i_local)):
+            continue
+        t = inv @ poses[name] @ (np.eye(4) if inertial.origin is None else np.asarray(inertial.origin))
+        parts.append((mass, t[:3, 3].copy(), t[:3, :3] @ i_local @ t[:3, :3].T))
+    return parts
+
+
+def _color(visual, materials: dict) -> tuple[float, float, float, float]:
+    material = visual.material
+    if material is not None and material.color is None and material.name in materials:
+        material = materials[material.name]
+    if material is None or material.color is None:
+        return (0.7, 0.7, 0.75, 1.0)
+    return tuple(float(np.clip(v, 0.0, 1.0)) for v in np.asarray(material.color.rgba).ravel()[:4])
+
+
+def _visuals(tree: _Tree, links: list[str], frame, poses, directory: str, materials, missing: list) -> tuple:
+    """The visual shapes of ``links`` in the frame of pose ``frame``; missing meshes are warned about."""
+    from yourdfpy import filename_handler_magic
+
+    inv = np.linalg.inv(frame)
+    shapes = []
+    for name in links:
+        for visual in tree.links[name].visuals:
+            g = visual.geometry
+            if g is None:
+                continue
+            origin = inv @ poses[name] @ (np.eye(4) if visual.origin is None else np.asarray(visual.origin))
+            common = dict(origin=tuple(origin.ravel()), rgba=_color(visual, materials), name=name)
+            if g.box is not None:
+                shapes.append(Visual("box", size=tuple(np.asarray(g.box.size).ravel()), **common))
+            elif g.cylinder is not None:
+                shapes.append(Visual("cylinder", size=(g.cylinder.radius, g.cylinder.length), **common))
+            elif g.sphere is not None:
+                shapes.append(Visual("sphere", size=(g.sphere.radius,), **common))
+            elif g.mesh is not None:
+                resolved = filename_handler_magic(g.mesh.filename, dir=directory)
+                if not os.path.isfile(resolved):
+                    missing.append(g.mesh.filename)
+                    warnings.warn(
+                        f"URDF link {name!r}: mesh {g.mesh.filename!r} not found; the link is drawn without it",
+                        stacklevel=4,
+                    )
+                    continue
+                scale = np.broadcast_to(np.asarray(1.0 if g.mesh.scale is None else g.mesh.scale, float), 3)
+                shapes.append(
+                    Visual("mesh", filename=os.path.abspath(resolved), scale=tuple(scale), **common)
+                )
+    return tuple(shapes)
+
+
+def _geometry_radius(link, axle_local: np.ndarray, directory: str) -> float | None:
+    """Radius of a wheel link about its axle (in the link frame) from its collision, else visual, geometry: a
+    sphere's or a cylinder's along the axle radius, a mesh's half width across the axle."""
+    from yourdfpy import filename_handler_magic
+
+    for shapes in (link.collisions, link.visuals):
+        for shape in shapes:
+            g = shape.geometry
+            if g is None:
+                continue
+            if g.sphere is not None:
+                return float(g.sphere.radius)
+            pose = np.eye(4) if shape.origin is None else np.asarray(shape.origin, dtype=float)
+            rotation = pose[:3, :3]
+            if g.cylinder is not None and abs(abs(rotation[:, 2] @ axle_local) - 1.0) < 1e-6:
+                return float(g.cylinder.radius)
+            if g.mesh is not None:
+                resolved = filename_handler_magic(g.mesh.filename, dir=directory)
+                if os.path.isfile(resolved):
+                    import trimesh
+
+                    mesh = trimesh.load(resolved, force="mesh")
+                    scale = np.broadcast_to(np.asarray(1.0 if g.mesh.scale is None else g.mesh.scale), 3)
+                    points = (np.asarray(mesh.vertices) * scale) @ rotation.T
+                    across = np.linalg.svd(np.outer(axle_local, axle_local) - np.eye(3))[0][:, :2]
+                    extent = np.ptp(points @ across, axis=0)  # the mesh's widths across the axle
+                    return float(np.mean(extent) / 2)
+    return None
+
+
+def _wheel_pair(tree, candidates, wheels, poses, base_pose):
+    """The (right, left) wheel joints with their axle data, or ModelError listing the continuous joints."""
+    inv = np.linalg.inv(base_pose)
+
+    def geometry(j):
+        # the joint frame after its motion is the wheel link's frame; its pose at the reference configuration
+        t = inv @ poses[j.child]
+        return t[:3, 3], t[:3, :3] @ _axis(j)
+
+    def common_axle(a, b) -> bool:
+        (pa, axa), (pb, axb) = geometry(a), geometry(b)
+        d = pb - pa
+        separation = np.linalg.norm(d)
+        return (
+            separation > _AXLE_TOL
+            and abs(abs(axa @ axb) - 1.0) < _AXLE_TOL
+            and abs(abs(d @ axa) / separation - 1.0) < _AXLE_TOL
+            and abs(axa[2]) < _AXLE_TOL
+        )
+
+    if wheels is not None:
+        pair = []
+        for name in wheels:
+            if name not in tree.joints:
+                raise ModelError(f"wheels: no joint named {name!r} in the URDF")
+            if tree.joints[name].type not in ("continuous", "revolute"):
+                raise ModelError(f"wheels: joint {name!r} is {tree.joints[name].type}, not continuous")
+            pair.append(tree.joints[name])
+        if not common_axle(*pair):
+            raise ModelError(f"wheels: joints {wheels[0]!r} and {wheels[1]!r} have no common horizontal axle")
+        pairs = [tuple(pair)]
+    else:
+        pairs = [(a, b) for k, a in enumerate(candidates) for b in candidates[k + 1 :] if common_axle(a, b)]
+        driven = [p for p in pairs if all(j.limit is not None for j in p)]
+        pairs = driven or pairs
+        if not pairs:
+            seen = ", ".join(j.name for j in candidates) or "none"
+            raise ModelError(
+                "URDF: no pair of wheel joints with a common horizontal axle (two continuous joints off the arm "
+                f"chains); continuous joints seen: {seen}; name them with wheels=(right, left) or choose "
+                "platform='omnidirectional'"
+            )
+        if len(pairs) > 1:
+            listed = "; ".join(f"({a.name}, {b.name})" for a, b in pairs)
+            raise ModelError(
+                f"URDF: several wheel pairs qualify: {listed}; name one with wheels=(right, left)"
+            )
+    a, b = pairs[0]
+    (pa, axis), (pb, _) = geometry(a), geometry(b)
+    right, left = (a, b) if pa[1] < pb[1] else (b, a)
+    if abs(abs(axis[1]) - 1.0) > _AXLE_TOL:
+        raise ModelError(
+            f"URDF: the axle of {right.name!r} and {left.name!r} is not along the y axis of the base link "
+            "(the platform's heading is the base's x axis)"
+        )
+    return right, left, pa, pb
+
+
+def _spin_inertia(tree, joint, poses) -> float:
+    """a_wᵀ I a_w of the wheel link (and what is fixed to it) about the axle through its centre of mass."""
+    frame = poses[joint.child]
+    parts = _inertial_parts(tree, [joint.child], frame, poses)
+    lumped = _lump(parts)
+    if lumped is None:
+        return 0.0
+    axis = _axis(joint)
+    return float(axis @ lumped[2] @ axis)
+
+
+def read_urdf(
+    path,
+    tip: str | Sequence[str] = "arm_tool_link",
+    base: str = "base_footprint",
+    platform: str = "auto",
+    wheels: tuple[str, str] | None = None,
+    wheel_radius: float | None = None,
+    half_track: float | None = None,
+    name: str | None = None,
+    locked: Mapping[str, float] | None = None,
+) -> UrdfModel:
+    """Read a mobile manipulator from a URDF file (see the module docstring for every rule).
+
+    ``tip``: the end-effector link, or several (one arm each); ``base``: the platform link; ``platform``:
+    ``"auto"`` | ``"differential"`` | ``"car"`` | ``"omnidirectional"``; ``wheels``: (right, left) wheel joint
+    names; ``wheel_radius``, ``half_track``: override the values read; ``name``: the robot's name (default the
+    URDF's); ``locked``: joints held at fixed values (rad or m). Returns the robot, its :class:`UrdfSummary`,
+    the platform's inertials and the effort limits.
+    """
+    if platform not in PLATFORMS:
+        raise ModelError(f"platform must be one of {', '.join(PLATFORMS)}, got {platform!r}")
+    urdf, file = _parse(path)
+    tree = _Tree.of(urdf.robot)
+    tips = (tip,) if isinstance(tip, str) else tuple(tip)
+    if not tips:
+        raise ModelError("tip: give at least one tip link")
+    locked = dict(locked or {})
+    for joint_name, value in locked.items():
+        if joint_name not in tree.joints or tree.joints[joint_name].type not in _MOVING:
+            raise ModelError(f"locked: {joint_name!r} is not a moving joint of the URDF")
+        if not math.isfinite(value):
+            raise ModelError(f"locked: {joint_name} must be finite, got {value!r}")
+    paths = [tree.path(base, t) for t in tips]
+    chains: list[list] = []
+    owner: dict[str, str] = {}
+    for t, joints in zip(tips, paths):
+        chain = []
+        for j in joints:
+            if j.type in ("floating", "planar"):
+                raise ModelError(f"URDF joint {j.name!r} on the chain to {t!r} is {j.type}: not supported")
+            if j.type not in _MOVING or j.name in locked:
+                continue
+            if j.mimic is not None:
+                raise ModelError(
+                    f"URDF joint {j.name!r} on the chain to {t!r} mimics {j.mimic.joint!r}: not supported "
+                    "(lock it with locked={...})"
+                )
+            if j.name in owner:
+                raise ModelError(
+                    f"URDF joint {j.name!r} is on the chains to {owner[j.name]!r} and {t!r}; mobman's arms share "
+                    f"no joint: lock it with locked={{{j.name!r}: value}}"
+                )
+            owner[j.name] = t
+            chain.append(j)
+        if not chain:
+            raise ModelError(f"URDF: no moving joint between {base!r} and {t!r}")
+        chains.append(chain)
+    starts = {j.child: (i, k) for i, chain in enumerate(chains) for k, j in enumerate(chain)}
+    poses = _poses(tree, locked)
+    groups = _groups(tree, starts)
+    on_chain = {j.name for chain in chains for j in chain}
+    passive = [
+        j for j in urdf.robot.joints if j.type in _MOVING and j.name not in on_chain and j.name not in locked
+    ]
+    base_pose = poses[base]
+    directory = str(file.parent)
+
+    # platform
+    summary_extra: dict = {}
+    continuous = [j for j in passive if j.type == "continuous" and groups[j.parent] is None]
+    offset = np.zeros(3)
+    wheel_pair = None
+    platform_model: Platform
+    if platform in ("auto", "differential", "car"):
+        right, left, p_r, p_l = _wheel_pair(tree, continuous, wheels, poses, base_pose)
+        wheel_pair = (right, left)
+        midpoint = 0.5 * (p_r + p_l)
+        offset = np.array([midpoint[0], midpoint[1], 0.0])
+        b = float(np.linalg.norm(p_l - p_r) / 2) if half_track is None else float(half_track)
+        r = wheel_radius
+        if r is None:
+            r = _geometry_radius(tree.links[right.child], _axis(right), directory)
+            if r is None:
+                raise ModelError(
+                    f"URDF link {right.child!r}: no cylinder, sphere or mesh gives the wheel radius; "
+                    "pass wheel_radius="
+                )
+        speeds = [j.limit.velocity for j in wheel_pair if j.limit is not None and _limit(j.limit.velocity)]
+        speed = min(speeds) if len(speeds) == 2 else None
+        if platform == "car":
+            platform_model = _car(tree, passive, groups, poses, base_pose, offset, wheel_pair)
+        else:
+            platform_model = DifferentialDrive(wheel_radius=r, half_track=b, wheel_speed_max=speed)
+        if speed is None:
+            limits_text = "platform velocity limits: none (the wheel joints give no velocity limit)"
+        else:
+            limits_text = (
+                f"platform velocity limits from the wheel speed limit {speed:.6g} rad/s: the diamond "
+                f"|v|/{r * speed:.6g} + |ω|/{r * speed / b:.6g} ≤ 1; normalised measures use its vertices "
+                f"v_max = {r * speed:.6g} m/s, ω_max = {r * speed / b:.6g} rad/s"
+            )
+        summary_extra = dict(
+            wheels=(right.name, left.name),
+            wheel_radius=float(r),
+            half_track=b,
+            reference_point=(float(offset[0]), float(offset[1])),
+            platform_limits=limits_text,
+        )
+    else:
+        platform_model = Omnidirectional()
+        summary_extra = dict(platform_limits="platform velocity limits: none (omnidirectional, not in URDF)")
+    platform_pose = base_pose @ spatial.as_matrix(spatial.transform(None, tuple(offset)))
+
+    # arms
+    missing: list[str] = []
+    materials = {m.name: m for m in urdf.robot.materials if m.name}
+    by_group: dict = {}
+    for link, g in groups.items():
+        by_group.setdefault(g, []).append(link)
+    arms = []
+    folded: list[str] = []
+    for i, (t, joints) in enumerate(zip(tips, paths)):
+        chain_names = {j.name for j in chains[i]}
+        acc = np.linalg.inv(platform_pose) @ base_pose
+        arm_joints = []
+        for j in joints:
+            if j.name not in chain_names:
+                acc = acc @ _origin(j)
+                if j.type in _MOVING:
+                    acc = acc @ _motion(j.type, _axis(j), locked[j.name])
+                else:
+                    folded.append(j.name)
+                continue
+            k = len(arm_joints)
+            frame = poses[j.child]
+            lumped = _lump(_inertial_parts(tree, by_group.get((i, k), []), frame, poses))
+            limit = j.limit
+            bounded = j.type != "continuous" and limit is not None
+            arm_joints.append(
+                Joint(
+                    kind="prismatic" if j.type == "prismatic" else "revolute",
+                    axis=tuple(_axis(j)),
+                    origin=tuple((acc @ _origin(j)).ravel()),
+                    name=j.name,
+                    lower=float(limit.lower) if bounded and limit.lower is not None else -math.inf,
+                    upper=float(limit.upper) if bounded and limit.upper is not None else math.inf,
+                    velocity_max=None if limit is None else _limit(limit.velocity),
+                    effort_max=None if limit is None else _limit(limit.effort),
+                    inertial=None
+                    if lumped is None or lumped[0] <= 0
+                    else LinkInertial(lumped[0], tuple(lumped[1]), tuple(lumped[2].ravel())),
+                    visuals=_visuals(
+                        tree, by_group.get((i, k), []), frame, poses, directory, materials, missing
+                    ),
+                )
+            )
+            acc = np.eye(4)
+        arms.append(Arm(tuple(arm_joints), tuple(acc.ravel()), name=t))
+
+    platform_links = by_group.get(None, [])
+    robot = MobileManipulator(
+        platform_model,
+        tuple(arms),
+        name=name or urdf.robot.name or file.stem,
+        platform_visuals=_visuals(tree, platform_links, platform_pose, poses, directory, materials, missing),
+    )
+    body, wheel = _platform_inertials(tree, platform_links, platform_pose, poses, wheel_pair)
+    efforts: list[float | None] = []
+    if isinstance(platform_model, DifferentialDrive):
+        efforts += [None if j.limit is None else _limit(j.limit.effort) for j in wheel_pair]
+    else:
+        efforts += [None] * platform_model.n_eta
+    efforts += [j.effort_max for a in arms for j in a.joints]
+    summary = UrdfSummary(
+        path=str(file),
+        name=robot.name,
+        base=base,
+        tips=tips,
+        platform=type(platform_model).__name__,
+        chains=tuple(tuple(j.name for j in chain) for chain in chains),
+        folded=tuple(folded),
+        locked=tuple(locked.items()),
+        passive=tuple(j.name for j in passive),
+        missing_meshes=tuple(dict.fromkeys(missing)),
+        **summary_extra,
+    )
+    return UrdfModel(robot, summary, body, wheel, tuple(efforts))
+
+
+def _car(tree, passive, groups, poses, base_pose, offset, wheel_pair) -> CarLike:
+    """A car from the rear wheel pair and a steering joint (revolute about the vertical, off the chains, on the
+    platform) ahead of the rear axle; length = the steering joint's distance ahead of the axle midpoint."""
+    inv = np.linalg.inv(base_pose)
+    steering = []
+    for j in passive:
+        if j.type != "revolute" or groups[j.parent] is not None or j in wheel_pair:
+            continue
+        t = inv @ poses[j.child]
+        axis = t[:3, :3] @ _axis(j)
+        if abs(abs(axis[2]) - 1.0) < 1e-9 and abs(t[1, 3] - offset[1]) < 1e-9:
+            steering.append((j, t[0, 3] - offset[0]))
+    if len(steering) != 1 or steering[0][1] <= 0:
+        seen = ", ".join(j.name for j, _ in steering) or "none"
+        raise ModelError(
+            "platform='car': needs one steering joint (revolute about the vertical, on the platform's centre line "
+            f"ahead of the rear axle); candidates seen: {seen}"
+        )
+    return CarLike(length=float(steering[0][1]))
+
+
+def _platform_inertials(tree, links, platform_pose, poses, wheel_pair):
+    from mobman.dynamics.inertia import PlatformBody, Wheel
+
+    lumped = _lump(_inertial_parts(tree, links, platform_pose, poses))
+    if lumped is None or lumped[0] <= 0:
+        return None, None
+    mass, com, inertia = lumped
+    body = PlatformBody(mass, float(inertia[2, 2]), tuple(com))
+    if wheel_pair is None:
+        return body, None
+    spins = [_spin_inertia(tree, j, poses) for j in wheel_pair]
+    return body, Wheel(0.0, float(np.mean(spins)), 0.0)
+
+
+def load_urdf(
+    path,
+    tip: str | Sequence[str] = "arm_tool_link",
+    base: str = "base_footprint",
+    platform: str = "auto",
+    wheels: tuple[str, str] | None = None,
+    wheel_radius: float | None = None,
+    half_track: float | None = None,
+    name: str | None = None,
+    locked: Mapping[str, float] | None = None,
+) -> MobileManipulator:
+    """A :class:`mobman.MobileManipulator` from a URDF file in one line (:func:`read_urdf`'s robot).
+
+    >>> robot = load_urdf("tiago.urdf", tip="arm_tool_link")  # doctest: +SKIP
+    """
+    return read_urdf(path, tip, base, platform, wheels, wheel_radius, half_track, name, locked).robot
+
+
+def inspect_urdf(path, **options) -> UrdfSummary:
+    """What :func:`read_urdf` keeps and leaves out of a URDF file (chains, wheels, passive joints)."""
+    return read_urdf(path, **options).summary
+
+
+# --- writing ---------------------------------------------------------------------------------------
+
+CAR_WHEEL_RADIUS = 0.1  # m: the wheel radius written for a car (the kinematic car has none)
+
+
+def _u_inertial(mass: float, com, inertia) -> "object":
+    from yourdfpy import Inertial
+
+    origin = np.eye(4)
+    origin[:3, 3] = com
+    return Inertial(origin=origin, mass=float(mass), inertia=np.asarray(inertia, dtype=float).reshape(3, 3))
+
+
+def _u_visuals(visuals: Sequence[Visual]) -> list:
+    from yourdfpy import Box, Color, Cylinder, Geometry, Material, Mesh, Sphere
+    from yourdfpy import Visual as UVisual
+
+    shapes = []
+    for v in visuals:
+        if v.kind == "box":
+            geometry = Geometry(box=Box(np.asarray(v.size)))
+        elif v.kind == "cylinder":
+            geometry = Geometry(cylinder=Cylinder(*v.size))
+        elif v.kind == "sphere":
+            geometry = Geometry(sphere=Sphere(v.size[0]))
+        else:
+            geometry = Geometry(mesh=Mesh(v.filename, np.asarray(v.scale)))
+        material = Material(name=None, color=Color(np.asarray(v.rgba)))
+        shapes.append(
+            UVisual(
+                name=v.name or None, origin=spatial.as_matrix(v.origin), geometry=geometry, material=material
+            )
+        )
+    return shapes
+
+
+def _wheel(name: str, parent: str, xyz, radius: float, speed, wheel: "Wheel | None"):
+    """A continuous wheel joint turning about the platform's y axis, with its link (cylinder collision)."""
+    from yourdfpy import Collision, Cylinder, Geometry, Limit, Link
+    from yourdfpy import Joint as UJoint
+
+    origin = np.eye(4)
+    origin[:3, :3] = spatial.rot_x(-math.pi / 2)  # the joint's z axis along the platform's y axis
+    origin[:3, 3] = xyz
+    inertial = None
+    if wheel is not None and (wheel.mass > 0 or wheel.I_w > 0 or wheel.I_m > 0):
+        # about the centre: I_m about the diameters (local x, y), I_w about the axle (local z)
+        inertial = _u_inertial(wheel.mass, (0.0, 0.0, 0.0), np.diag([wheel.I_m, wheel.I_m, wheel.I_w]))
+    collision = Collision(name=None, origin=np.eye(4), geometry=Geometry(cylinder=Cylinder(radius, 0.02)))
+    link = Link(f"{name}_link", inertial=inertial, collisions=[collision])
+    limit = None if speed is None else Limit(effort=None, velocity=float(speed))
+    joint = UJoint(
+        f"{name}_joint", "continuous", parent, link.name, origin, np.array([0.0, 0.0, 1.0]), limit=limit
+    )
+    return link, joint
+
+
+def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
+    from yourdfpy import Joint as UJoint
+    from yourdfpy import Limit, Link
+
+    inertial = None
+    if body is not None:
+        inertial = _u_inertial(body.mass, body.com, np.diag([0.0, 0.0, body.inertia_z]))
+    links = [Link("base_footprint", inertial=inertial, visuals=_u_visuals(robot.platform_visuals))]
+    joints: list = []
+    platform = robot.platform
+    if isinstance(platform, DifferentialDrive):
+        r, b = platform.wheel_radius, platform.half_track
+        for side, y in (("wheel_right", -b), ("wheel_left", b)):
+            link, joint = _wheel(side, "base_footprint", (0.0, y, r), r, platform.wheel_speed_max, wheel)
+            links.append(link)
+            joints.append(joint)
+    elif isinstance(platform, CarLike):
+        r = CAR_WHEEL_RADIUS
+        for side, y in (("wheel_rear_right", -r), ("wheel_rear_left", r)):
+            link, joint = _wheel(side, "base_footprint", (0.0, y, r), r, None, None)
+            links.append(link)
+            joints.append(joint)
+        origin = np.eye(4)
+        origin[:3, 3] = (platform.length, 0.0, r)
+        links.append(Link("steering_link"))
+        joints.append(
+            UJoint(
+                "steering_joint",
+                "revolute",
+                "base_footprint",
+                "steering_link",
+                origin,
+                np.array([0.0, 0.0, 1.0]),
+                limit=Limit(effort=None, velocity=None, lower=-math.pi / 2, upper=math.pi / 2),
+            )
+        )
+        link, joint = _wheel("wheel_front", "steering_link", (0.0, 0.0, 0.0), r, None, None)
+        links.append(link)
+        joints.append(joint)
+    elif not isinstance(platform, Omnidirectional):
+        raise ModelError(f"write_urdf: no URDF form for a {type(platform).__name__} platform")
+    return links, joints
+
+
+def _limit_value(value: float):
+    return None if not math.isfinite(value) else float(value)
+
+
+def write_urdf(robot: "MobileManipulator | DynamicModel", path) -> Path:
+    """Write a robot (or a :class:`mobman.dynamics.DynamicModel`, with its platform body and wheels) as URDF.
+
+    The platform link is ``base_footprint``; arm ``i``'s joints keep their names (prefixed by the arm's name
+    when there are several arms) and end in the fixed joint to ``<prefix>tool_link``. Read it back with
+    ``read_urdf(path, tip=[tool links], platform=...)`` (``"car"`` for a car, ``"omnidirectional"`` for a
+    holonomic platform): :func:`urdf_tips` gives the tips. Returns the path written.
+    """
+    from yourdfpy import URDF, Inertial, Limit, Link, Robot
+    from yourdfpy import Joint as UJoint
+
+    from mobman.dynamics.inertia import DynamicModel
+
+    body = wheel = None
+    if isinstance(robot, DynamicModel):
+        body, wheel, robot = robot.body, robot.wheel, robot.robot
+    links, joints = _platform_urdf(robot, body, wheel)
+    for i, (arm, mount) in enumerate(zip(robot.arms, robot.mounts)):
+        prefix = _arm_prefix(robot, i)
+        parent, previous = "base_footprint", spatial.as_matrix(mount.transform)
+        for joint in arm.joints:
+            axis = np.asarray(joint.axis)
+            origin = previous @ spatial.as_matrix(joint.origin) @ _motion(joint.kind, axis, joint.offset)
+            bounded = math.isfinite(joint.lower) or math.isfinite(joint.upper)
+            kind = joint.kind if joint.kind == "prismatic" or bounded else "continuous"
+            limit = Limit(
+                effort=joint.effort_max or 0.0,
+                velocity=joint.velocity_max or 0.0,
+                lower=_limit_value(joint.lower) if kind != "continuous" else None,
+                upper=_limit_value(joint.upper) if kind != "continuous" else None,
+            )
+            inertial: Inertial | None = None
+            if joint.inertial is not None:
+                inertial = _u_inertial(joint.inertial.mass, joint.inertial.com, joint.inertial.inertia)
+            child = f"{prefix}{joint.name}_link"
+            links.append(Link(child, inertial=inertial, visuals=_u_visuals(joint.visuals)))
+            joints.append(UJoint(f"{prefix}{joint.name}", kind, parent, child, origin, axis, limit=limit))
+            parent, previous = child, np.eye(4)
+        tool = f"{prefix}tool_link"
+        links.append(Link(tool))
+        joints.append(UJoint(f"{prefix}tool_joint", "fixed", parent, tool, spatial.as_matrix(arm.tool)))
+    file = Path(path)
+    URDF(
+        Robot(robot.name, links=links, joints=joints), build_scene_graph=False, load_meshes=False
+    ).write_xml_file(str(file))
+    return file
+
+
+def _arm_prefix(robot: MobileManipulator, index: int) -> str:
+    if len(robot.arms) == 1:
+        return ""
+    labels = [a.name for a in robot.arms]
+    if len(set(labels)) != len(labels):
+        labels = [f"arm{k + 1}" for k in range(len(robot.arms))]
+    return f"{labels[index]}_"
+
+
+def urdf_tips(robot: MobileManipulator) -> tuple[str, ...]:
+    """The tool links that :func:`write_urdf` writes, one per arm."""
+    return tuple(f"{_arm_prefix(robot, i)}tool_link" for i in range(len(robot.arms)))

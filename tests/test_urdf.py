@@ -1,0 +1,331 @@
+"""URDF import on small hand-written files and on the built-in real robots: what is read, every error, the
+command line, and the write → read round trip of every paper robot."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from mobman import dynamics as dyn
+from mobman import kinematics as K
+from mobman import redundancy as R
+from mobman.cli import main
+from mobman.errors import InputError, ModelError
+from mobman.io.urdf import inspect_urdf, load_urdf, read_urdf, urdf_tips, write_urdf
+from mobman.model import robots
+from mobman.model.platform import DifferentialDrive
+from mobman.model.real_robots import REAL_ROBOTS, urdf_model
+
+WHEEL = """
+  <link name="{side}_wheel">
+    <inertial><mass value="1.0"/><inertia ixx="0.01" iyy="0.01" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><cylinder radius="0.1" length="0.04"/></geometry></collision>
+  </link>
+  <joint name="{side}_wheel_joint" type="continuous">
+    <parent link="base_link"/><child link="{side}_wheel"/>
+    <origin xyz="{x} {y} 0.1" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 1"/>
+    <limit effort="5" velocity="8"/>
+  </joint>"""
+
+
+def _urdf(tmp_path, arm_joint="revolute", extra="", wheels=True, wheel_x=0.1, name="small.urdf", mesh=""):
+    """A base, two wheels at x = wheel_x (half track 0.2), a caster, a 2-joint arm with a fixed tool link."""
+    parts = [
+        '<?xml version="1.0"?>\n<robot name="small">',
+        '  <link name="base_footprint"/>',
+        '  <link name="base_link"><inertial><mass value="20"/><origin xyz="0.05 0 0.2"/>'
+        '<inertia ixx="1" iyy="1" izz="0.8" ixy="0" ixz="0" iyz="0"/></inertial>'
+        f"{mesh}</link>",
+        '  <joint name="base_joint" type="fixed"><parent link="base_footprint"/><child link="base_link"/>'
+        "</joint>",
+    ]
+    if wheels:
+        parts.append(WHEEL.format(side="right", x=wheel_x, y=-0.2))
+        parts.append(WHEEL.format(side="left", x=wheel_x, y=0.2))
+    parts += [
+        '  <link name="caster"/>',
+        '  <joint name="caster_joint" type="continuous"><parent link="base_link"/><child link="caster"/>'
+        '<origin xyz="-0.3 0 0.05"/><axis xyz="0 0 1"/></joint>',
+        '  <link name="link1"><inertial><mass value="2"/><origin xyz="0 0 0.1"/>'
+        '<inertia ixx="0.02" iyy="0.02" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
+        '<visual><geometry><box size="0.1 0.1 0.2"/></geometry></visual></link>',
+        f'  <joint name="j1" type="{arm_joint}"><parent link="base_link"/><child link="link1"/>'
+        '<origin xyz="0.1 0 0.3" rpy="0 0 0.3"/><axis xyz="0 0 1"/>'
+        '<limit lower="-2" upper="2" velocity="1.5" effort="20"/></joint>',
+        '  <link name="link2"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>'
+        '<inertia ixx="0.01" iyy="0.02" izz="0.02" ixy="0" ixz="0" iyz="0"/></inertial></link>',
+        '  <joint name="j2" type="revolute"><parent link="link1"/><child link="link2"/>'
+        '<origin xyz="0 0 0.2" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" velocity="2" effort="10"/></joint>',
+        '  <link name="tool"><inertial><mass value="0.5"/><inertia ixx="0.001" iyy="0.001" izz="0.001" '
+        'ixy="0" ixz="0" iyz="0"/></inertial></link>',
+        '  <joint name="tool_joint" type="fixed"><parent link="link2"/><child link="tool"/>'
+        '<origin xyz="0.4 0 0"/></joint>',
+        extra,
+        "</robot>",
+    ]
+    path = tmp_path / name
+    path.write_text("\n".join(parts))
+    return path
+
+
+def test_small_urdf_is_read_as_written(tmp_path):
+    model = read_urdf(_urdf(tmp_path), tip="tool")
+    robot, summary = model.robot, model.summary
+    assert robot.platform.wheel_radius == 0.1 and robot.platform.half_track == pytest.approx(0.2)
+    assert robot.platform.wheel_speed_max == 8.0
+    assert summary.wheels == ("right_wheel_joint", "left_wheel_joint")
+    assert summary.reference_point == pytest.approx((0.1, 0.0))
+    assert summary.passive == ("right_wheel_joint", "left_wheel_joint", "caster_joint")
+    assert summary.folded == ("base_joint", "tool_joint")
+    arm = robot.arms[0]
+    assert [j.name for j in arm.joints] == ["j1", "j2"]
+    assert [(j.lower, j.upper, j.velocity_max, j.effort_max) for j in arm.joints] == [
+        (-2, 2, 1.5, 20),
+        (-1, 1, 2, 10),
+    ]
+    # the tool link's 0.5 kg at (0.4, 0, 0) is lumped into link2: mass 1.5, com at (1·0.2 + 0.5·0.4)/1.5
+    inertial = arm.joints[1].inertial
+    assert inertial.mass == pytest.approx(1.5)
+    assert inertial.com == pytest.approx((0.4 / 1.5, 0.0, 0.0))
+    assert len(arm.joints[0].visuals) == 1 and arm.joints[0].visuals[0].kind == "box"
+    # effort limits: wheels then joints; the platform body holds base and wheels (20 + 2 kg)
+    assert model.effort_limits == (5.0, 5.0, 20.0, 10.0)
+    assert model.body.mass == pytest.approx(22.0) and model.wheel.I_w == pytest.approx(0.02)
+    # tool position at q = 0, by hand: the platform frame is at the axle midpoint (0.1, 0) of base_footprint;
+    # j1 at (0.1, 0, 0.3) turned 0.3 rad; j2 0.2 above it; the tool 0.4 along j2's x (= j1's x after the roll)
+    c, s = math.cos(0.3), math.sin(0.3)
+    expected = np.array([0.0 + 0.4 * c, 0.4 * s, 0.5])
+    assert np.asarray(K.forward(robot, np.zeros(robot.n_q))) == pytest.approx(expected, abs=1e-12)
+
+
+def test_platform_choices_and_overrides(tmp_path):
+    path = _urdf(tmp_path)
+    omni = load_urdf(path, tip="tool", platform="omnidirectional")
+    assert type(omni.platform).__name__ == "Omnidirectional"
+    forced = load_urdf(path, tip="tool", wheel_radius=0.05, half_track=0.3, name="mine")
+    assert (forced.platform.wheel_radius, forced.platform.half_track, forced.name) == (0.05, 0.3, "mine")
+    named = load_urdf(path, tip="tool", wheels=("left_wheel_joint", "right_wheel_joint"))
+    assert named.platform.half_track == pytest.approx(0.2)
+    locked = read_urdf(path, tip="tool", locked={"j1": 0.5})
+    assert [j.name for j in locked.robot.arms[0].joints] == ["j2"]
+    assert locked.summary.locked == (("j1", 0.5),)
+    assert "passive joints" in str(inspect_urdf(path, tip="tool"))
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"tip": "nowhere"}, "no link named 'nowhere'"),
+        ({"tip": "base_link", "base": "tool"}, "tip link 'base_link' is not below base link 'tool'"),
+        ({"tip": "tool", "platform": "tank"}, "platform must be one of"),
+        ({"tip": "tool", "wheels": ("j1", "caster_joint")}, "common horizontal axle"),
+        ({"tip": "tool", "locked": {"base_joint": 0.0}}, "'base_joint' is not a moving joint"),
+    ],
+)
+def test_bad_options_name_the_link_or_joint(tmp_path, kwargs, message):
+    with pytest.raises(ModelError, match=message):
+        load_urdf(_urdf(tmp_path), **kwargs)
+
+
+def test_no_wheel_pair_lists_the_continuous_joints(tmp_path):
+    with pytest.raises(ModelError, match="continuous joints seen: caster_joint"):
+        load_urdf(_urdf(tmp_path, wheels=False), tip="tool")
+
+
+@pytest.mark.parametrize(
+    "arm_joint, extra, message",
+    [
+        ("floating", "", "'j1' on the chain to 'tool' is floating"),
+        ("planar", "", "'j1' on the chain to 'tool' is planar"),
+    ],
+)
+def test_unsupported_joints_on_the_chain(tmp_path, arm_joint, extra, message):
+    with pytest.raises(ModelError, match=message):
+        load_urdf(_urdf(tmp_path, arm_joint=arm_joint, extra=extra), tip="tool")
+
+
+def test_mimic_joint_on_the_chain(tmp_path):
+    path = _urdf(tmp_path)
+    text = path.read_text().replace(
+        '<limit lower="-1" upper="1" velocity="2" effort="10"/></joint>',
+        '<limit lower="-1" upper="1" velocity="2" effort="10"/><mimic joint="j1" multiplier="1"/></joint>',
+    )
+    path.write_text(text)
+    with pytest.raises(ModelError, match="'j2' on the chain to 'tool' mimics 'j1'"):
+        load_urdf(path, tip="tool")
+
+
+def test_shared_joint_of_two_tips_must_be_locked(tmp_path):
+    extra = (
+        '<link name="other"/><joint name="j3" type="revolute"><parent link="link1"/><child link="other"/>'
+        '<axis xyz="1 0 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
+    )
+    path = _urdf(tmp_path, extra=extra)
+    with pytest.raises(ModelError, match="'j1' is on the chains to 'tool' and 'other'.*locked="):
+        load_urdf(path, tip=["tool", "other"])
+    robot = load_urdf(path, tip=["tool", "other"], locked={"j1": 0.0})
+    assert [a.n_joints for a in robot.arms] == [1, 1]
+
+
+def test_bad_files(tmp_path):
+    with pytest.raises(InputError, match="no such file"):
+        load_urdf(tmp_path / "missing.urdf")
+    xacro = tmp_path / "robot.urdf.xacro"
+    xacro.write_text("<robot/>")
+    with pytest.raises(InputError, match="xacro robot.urdf.xacro > robot.urdf"):
+        load_urdf(xacro)
+    macros = tmp_path / "macros.urdf"
+    macros.write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="m"/></robot>')
+    with pytest.raises(InputError, match="xacro macros; expand it"):
+        load_urdf(macros)
+    other = tmp_path / "notes.urdf"
+    other.write_text("just text")
+    with pytest.raises(InputError, match="not a URDF file"):
+        load_urdf(other)
+
+
+def test_missing_mesh_is_a_warning(tmp_path):
+    mesh = '<visual><geometry><mesh filename="package://nowhere/meshes/body.stl"/></geometry></visual>'
+    with pytest.warns(UserWarning, match="mesh 'package://nowhere/meshes/body.stl' not found"):
+        model = read_urdf(_urdf(tmp_path, mesh=mesh), tip="tool")
+    assert model.summary.missing_meshes == ("package://nowhere/meshes/body.stl",)
+    assert model.robot.platform_visuals == ()
+
+
+def test_cli_reads_a_urdf_file_and_reports_errors_in_one_line(tmp_path, capsys):
+    path = _urdf(tmp_path)
+    main(["analyze", str(path), "--tip", "tool", "--json", "--q", "0,0,0,0.3,0.2"])
+    data = json.loads(capsys.readouterr().out)
+    assert data["coordinates"] == ["x", "y", "theta", "j1", "j2"]
+    with pytest.raises(SystemExit) as exit_info:
+        main(["analyze", str(path), "--tip", "nowhere"])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no link named 'nowhere'" in err[0]
+
+
+# --- the built-in real robots ---------------------------------------------------------------------
+
+
+def test_tiago_wheels_and_chain_from_its_urdf():
+    model = urdf_model("tiago")
+    platform = model.robot.platform
+    assert platform.wheel_radius == pytest.approx(0.0985, abs=1e-12)
+    assert 2 * platform.half_track == pytest.approx(0.4044, abs=1e-12)
+    assert platform.wheel_speed_max == pytest.approx(10.152284264)
+    assert model.summary.chains[0][0] == "torso_lift_joint" and len(model.summary.chains[0]) == 8
+    assert model.robot.arms[0].joints[0].kind == "prismatic"
+    assert model.summary.missing_meshes == ()
+    assert all(v.kind != "mesh" or v.filename.startswith("/") for v in model.robot.platform_visuals)
+
+
+def test_stretch_and_tiago_dual_from_their_urdfs():
+    stretch = urdf_model("stretch").robot
+    assert stretch.platform.wheel_radius == pytest.approx(0.0508, abs=1e-4)  # the collision mesh's half width
+    assert [j.kind for j in stretch.arms[0].joints] == ["prismatic"] * 5 + ["revolute"] * 3
+    dual = urdf_model("tiago-dual")
+    assert [a.n_joints for a in dual.robot.arms] == [7, 7]
+    assert dual.summary.locked == (("torso_lift_joint", 0.15),)
+    assert {"suspension_right_joint", "suspension_left_joint"} <= set(dual.summary.passive)
+
+
+def test_robots_command_lists_the_real_robots(capsys):
+    main(["robots", "--json"])
+    entries = {e["name"]: e for e in json.loads(capsys.readouterr().out)["robots"]}
+    assert set(REAL_ROBOTS) <= set(entries)
+    assert entries["tiago"]["coordinates"][3] == "torso_lift_joint"
+
+
+def test_no_warning_on_the_built_in_files():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for spec in REAL_ROBOTS.values():
+            read_urdf(spec.path(), tip=spec.tips, base=spec.base, locked=dict(spec.locked))
+
+
+# --- write → read round trips ---------------------------------------------------------------------
+
+PAPER_ROBOTS = [
+    "bayle-planar",
+    "bayle-rrp",
+    "manus-platform",
+    "korayem-planar",
+    "tchon-car-rtr",
+    "yamamoto-dual-arm",
+]
+
+
+def _read_back(robot, path):
+    platform = {"CarLike": "car", "Omnidirectional": "omnidirectional"}.get(
+        type(robot.platform).__name__, "auto"
+    )
+    return load_urdf(path, tip=urdf_tips(robot), platform=platform).with_task(robot.task)
+
+
+def _motion_map(robot) -> np.ndarray:
+    """T with (platform q, motion variables) = T q: identity on the platform, each arm's coupling C."""
+    t = np.eye(robot.n_q)
+    for i, arm in enumerate(robot.arms):
+        s = robot.arm_slice(i)
+        t[s, s] = arm.coupling_matrix
+    return t
+
+
+@pytest.mark.parametrize("name", PAPER_ROBOTS)
+def test_paper_robots_round_trip_through_urdf(name, tmp_path):
+    robot = robots.build(name)
+    back = _read_back(robot, write_urdf(robot, tmp_path / f"{name}.urdf"))
+    assert type(back.platform) is type(robot.platform) and back.n_q == robot.n_q
+    q = R.sample_configurations(robot, 64, seed=3)
+    t = _motion_map(robot)  # a coupled arm is written in its motion variables
+    q_back = q @ t.T
+    assert np.abs(np.asarray(K.forward(back, q_back)) - np.asarray(K.forward(robot, q))).max() < 1e-12
+    jbar, jbar_back = np.asarray(K.reduced_jacobian(robot, q)), np.asarray(K.reduced_jacobian(back, q_back))
+    n_p = robot.platform.n_eta
+    t_eta = np.eye(robot.n_eta)
+    t_eta[n_p:, n_p:] = t[robot.n_platform :, robot.n_platform :]
+    assert np.abs(jbar_back @ t_eta - jbar).max() < 1e-12
+    if isinstance(robot.platform, DifferentialDrive) and robot.platform.wheel_speed_max is not None:
+        assert back.platform == robot.platform  # the per-wheel speed limit is written too
+
+
+def test_mass_matrix_round_trips_through_urdf(tmp_path):
+    """Yamamoto & Yun's robot with its Table 1–2 inertials: platform body, wheels and links written and read."""
+    model = dyn.yamamoto_model()
+    path = write_urdf(model, tmp_path / "yamamoto.urdf")
+    back = read_urdf(path, tip=urdf_tips(model.robot))
+    assert back.body.mass == pytest.approx(model.body.mass + 2 * model.wheel.mass, rel=1e-12)
+    back_model = back.dynamic_model(model.gravity)
+    q = R.sample_configurations(model.robot, 16, seed=4)
+    m, m_back = np.asarray(dyn.mass_matrix(model, q)), np.asarray(dyn.mass_matrix(back_model, q))
+    assert np.abs(m_back - m).max() < 1e-12 * np.abs(m).max()
+
+
+def test_tiago_round_trips_through_urdf(tmp_path):
+    model = urdf_model("tiago")
+    path = write_urdf(model.dynamic_model(), tmp_path / "tiago.urdf")
+    back = read_urdf(path, tip=urdf_tips(model.robot))
+    assert back.robot.platform == model.robot.platform
+    assert back.wheel.I_w == pytest.approx(model.wheel.I_w, rel=1e-12)
+    assert back.body.inertia_z == pytest.approx(model.body.inertia_z, rel=1e-12)
+    q = R.sample_configurations(model.robot, 32, seed=5)
+    jbar = np.asarray(K.reduced_jacobian(model.robot, q))
+    assert np.abs(np.asarray(K.reduced_jacobian(back.robot, q)) - jbar).max() < 1e-12
+
+
+def test_missing_extra_gives_the_install_line(monkeypatch, capsys):
+    from mobman.model import real_robots
+
+    absent = real_robots.RealRobot("no-such-distribution", "robot.urdf", ("tool",), "base_link")
+    with pytest.raises(ModelError, match=r"no-such-distribution: pip install 'mobman\[robots\]'"):
+        absent.path()
+    monkeypatch.setitem(real_robots.REAL_ROBOTS, "stretch", absent)
+    main(["robots", "--json"])
+    entries = {e["name"]: e for e in json.loads(capsys.readouterr().out)["robots"]}
+    assert entries["stretch"]["summary"].endswith("needs pip install 'mobman[robots]'")
+    assert entries["stretch"]["coordinates"] == []
