@@ -16,6 +16,11 @@ against them: a straightforward jit + vmap JAX version (``jacfwd`` of a 4 × 4 t
 ``jnp.linalg.svd``; "about 9 µs" in the issue) and Pinocchio's arm Jacobian called from Python ("about 2 µs",
 when Pinocchio, a ``test`` extra, is installed). They and the NumPy baseline are checked against mobman: a
 difference above ``AGREEMENT`` ends the run with an error, so CI's smoke run fails on it.
+
+The run ends with what limits it: the achieved fp64 GFLOP/s of the batched kernel (XLA's flop count of one
+block, against the CPU's peak from ``lscpu``), and the structure of the compiled programs (kernels, gathers,
+constant arrays, LAPACK calls, YNN library fusions) of one configuration, of one block and of the Jacobian's
+reverse-mode derivative.
 """
 
 from __future__ import annotations
@@ -37,7 +42,7 @@ from mobman.model import Arm, DifferentialDrive, MobileManipulator
 from mobman.model.spatial import transform
 from mobman.model.task import EulerAngles, Position, stack
 
-from timing import best_time
+from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_flops
 
 AGREEMENT = 1e-9
 """Largest difference from a reference implementation the benchmark accepts (it exits with an error above)."""
@@ -246,6 +251,23 @@ def pinocchio_arm_jacobian(robot: MobileManipulator, q: np.ndarray) -> tuple[flo
     return seconds, float(np.max(np.abs(j_pin[:3] - j_ours)))
 
 
+def compiler_report(robot: MobileManipulator, q: np.ndarray, seconds_per_config: float) -> None:
+    """Print the roofline of the batched kernel and the structure of the compiled programs."""
+    block = jnp.asarray(q[: batching.BLOCK])
+    kernel = jax.vmap(lambda qi: batched(robot, qi))  # one block of the batched J̄ + measures
+    flops = xla_flops(kernel, block) / batching.BLOCK
+    print_peak()
+    print(roofline("batched J̄ + w, w2, w5", flops, seconds_per_config))
+    one = jnp.asarray(q[0])
+    structures = [
+        ("one configuration (jacobian_and_measures)", lambda qi: mp.jacobian_and_measures(robot, qi), one),
+        (f"one block of {batching.BLOCK} (system_jacobian + measures)", kernel, block),
+        ("∇ of Σ J (reverse mode)", jax.grad(lambda qi: jnp.sum(mp.system_jacobian(robot, qi))), one),
+    ]
+    for label, fn, arg in structures:
+        print(describe_structure(label, program_structure(fn, arg)))
+
+
 @contextlib.contextmanager
 def one_worker():
     """Large batches on one thread, as before ``batching.across_cores`` shared them between the cores."""
@@ -337,6 +359,7 @@ def main(argv=None) -> None:
         f"issue's 3 µs target against its 9 µs asks 3×), {t_svd / t_batch:.1f}× faster than mobman's J̄ with "
         f"jnp.linalg.svd"
     )
+    compiler_report(robot, q, t_batch / args.n)
 
 
 if __name__ == "__main__":
