@@ -119,7 +119,7 @@ def test_kinematic_hessian_of_bayle_planar_in_closed_form():
         expected[:, 3, k] = tip_dot_b
     expected[:, 1, 4] = expected[:, 2, 4] = expected[:, 3, 4] = tip_dot_b
     for derivative in (jax.jacfwd, jax.jacrev):
-        got = jax.jit(derivative(lambda qq: K._reduced_one(robot, task, qq)))(q)
+        got = jax.jit(derivative(lambda qq: K.reduced_jacobian_one(robot, task, qq)))(q)
         np.testing.assert_allclose(got, expected, atol=1e-14)
 
 
@@ -141,5 +141,5 @@ def test_task_jacobians_differentiate_through_the_rule(robot):
     np.testing.assert_allclose(K.jacobian(robot, q), jax.jit(plain)(q), atol=1e-13)
     expected = jax.jit(jax.jacfwd(plain))(q)
     for derivative in (jax.jacfwd, jax.jacrev):
-        got = jax.jit(derivative(lambda qq: K._jacobian_one(robot, robot.task, qq)))(q)
+        got = jax.jit(derivative(lambda qq: K.jacobian_one(robot, robot.task, qq)))(q)
         np.testing.assert_allclose(got, expected, atol=1e-12)

@@ -498,10 +498,10 @@ def test_configurations_on_the_device_are_checked_there_and_not_copied(monkeypat
     monkeypatch.setattr(robot_module, "_in_host_memory", lambda q: in_host_memory)
     robot = robots.bayle_planar()
     q = jnp.asarray(np.random.default_rng(0).uniform(-1, 1, (7, 5)))
-    assert K._q(robot, q) is q
+    assert K.validated_q(robot, q) is q
     for bad in (np.nan, np.inf, -np.inf):
         with pytest.raises(mobman.InputError, match="NaN or infinite"):
-            K._q(robot, q.at[3, 2].set(bad))
-    as_int = K._q(robot, jnp.zeros((3, 5), dtype=jnp.int32))
+            K.validated_q(robot, q.at[3, 2].set(bad))
+    as_int = K.validated_q(robot, jnp.zeros((3, 5), dtype=jnp.int32))
     assert isinstance(as_int, jax.Array) and as_int.dtype == jnp.float64
     np.testing.assert_array_equal(K.reduced_jacobian(robot, q), K.reduced_jacobian(robot, np.asarray(q)))

@@ -10,18 +10,10 @@ import sys
 
 import typer
 
-from mobman.errors import MobmanError
-
-app = typer.Typer(
-    name="mobman",
-    help="Kinematics, manipulability, control, planning and dynamics of nonholonomic mobile manipulators.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-)
-
 # Each module registers its commands on ``app`` when imported.
-from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate  # noqa: E402,F401
+from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate  # noqa: F401
+from mobman.cli.app import app
+from mobman.errors import MobmanError
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -56,10 +56,10 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.control.spec import parse as parse_control
 from mobman.errors import InputError
-from mobman.io import dump_json
+from mobman.io import dump_json, robot_file
 from mobman.io import spec as fields
 
 if TYPE_CHECKING:
@@ -233,7 +233,7 @@ def _motion(data: dict, robot):
 def parse(data: dict, base: Path | None = None) -> LoadSpec:
     """Build a :class:`LoadSpec` from a TOML document already read into a dict (the motion is simulated)."""
     fields.keys(data, "spec", TOP_KEYS)
-    robot = fields.robot(data, base)
+    robot = robot_file.robot_table(data, base)
     model = _inertials(data, robot)
     actuators = _actuators(data, model.actuator_names)
     t, q, eta, motion = _motion(data, model.robot)

@@ -8,7 +8,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.io import dump_json
 from mobman.model.robots import ROBOTS
 

@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.io import dump_json
 
 PROGRESS_STEPS = 5000
