@@ -1,8 +1,21 @@
-"""Shared by the benchmark scripts (run as ``python benchmarks/NAME.py``, so this folder is on sys.path)."""
+"""Shared by the benchmark scripts (run as ``python benchmarks/NAME.py``, so this folder is on sys.path).
+
+Besides the timer, two readings of XLA's compiled programs that the benchmarks print (they are properties of
+the compiler's output, which change with the JAX version, so they are printed here, never asserted in tests):
+
+- :func:`xla_flops`: the floating-point operations XLA's own cost analysis counts for a compiled program
+  (``jax.jit(f).lower(*args).compile().cost_analysis()["flops"]``; a loop's body is counted once), which
+  :func:`roofline` sets against the machine's peak;
+- :func:`program_structure`: the kernels of a compiled program (fusions, library calls, products) and the
+  operations that cost XLA's CPU runtime most in small programs (gathers, constant arrays, LAPACK calls).
+"""
 
 from __future__ import annotations
 
 import math
+import os
+import re
+import subprocess
 import time
 from typing import Callable
 
@@ -17,3 +30,85 @@ def best_time(fn: Callable[[], object], repeat: int) -> float:
         jax.block_until_ready(fn())
         best = min(best, time.perf_counter() - t0)
     return best
+
+
+def compiled_text(fn: Callable, *args) -> str:
+    """The optimised HLO of ``jax.jit(fn)`` at ``args``, from its entry computation on."""
+    text = jax.jit(fn).lower(*args).compile().as_text()
+    return text[text.index("ENTRY") :]
+
+
+def xla_flops(fn: Callable, *args) -> float:
+    """Floating-point operations of one call of ``jax.jit(fn)`` at ``args``, by XLA's cost analysis."""
+    analysis = jax.jit(fn).lower(*args).compile().cost_analysis()
+    if isinstance(analysis, (list, tuple)):  # older jaxlib: one dict per program
+        analysis = analysis[0]
+    return float(analysis.get("flops", 0.0))
+
+
+def program_structure(fn: Callable, *args) -> dict[str, int]:
+    """Counts in the compiled program of ``fn`` at ``args``: kernels (fusions, library calls and products
+    of the entry computation), gathers and scatters, constant arrays (not scalars), LAPACK / cuSOLVER calls and
+    XLA's YNN library fusions (small reductions handed to a library built for large ones)."""
+    full = jax.jit(fn).lower(*args).compile().as_text()
+    entry = full[full.index("ENTRY") :]
+    return {
+        "kernels": len(re.findall(r"= \S+ (?:fusion|custom-call|dot)\(", entry)),
+        "gathers/scatters": len(re.findall(r"\b(?:gather|scatter)\(", full)),
+        "constant arrays": len([c for c in re.findall(r"= \w+\[([\d,]*)\]\S* constant\(", entry) if c]),
+        "solver calls": len(re.findall(r'custom_call_target="(?:lapack|cusolver|hipsolver)', full)),
+        "YNN fusions": full.count("__ynn_fusion"),
+    }
+
+
+def describe_structure(label: str, counts: dict[str, int]) -> str:
+    return f"{label}: " + ", ".join(f"{name} {value}" for name, value in counts.items())
+
+
+def _lscpu() -> dict[str, str]:
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return {}
+    return {k.strip(): v.strip() for k, v in (line.split(":", 1) for line in out.splitlines() if ":" in line)}
+
+
+FMA_UNITS = 2
+"""Vector FMA pipes per core assumed in the peak (two on current x86 server cores: Zen 2–4, Skylake-SP on)."""
+
+
+def cpu_peak() -> tuple[float, str]:
+    """Peak fp64 GFLOP/s of the cores this process may use and the formula, from ``lscpu``:
+    cores × GHz × FMA units × doubles per vector × 2 (an FMA is two operations)."""
+    info = _lscpu()
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    mhz = info.get("CPU max MHz") or info.get("CPU MHz")
+    if mhz is None:
+        try:
+            with open("/proc/cpuinfo") as f:
+                mhz = next(line.split(":")[1] for line in f if line.startswith("cpu MHz"))
+        except (OSError, StopIteration):
+            mhz = "0"
+    ghz = float(mhz) / 1000.0
+    flags = info.get("Flags", "").split()
+    width = 8 if "avx512f" in flags else 4 if "avx2" in flags or "avx" in flags else 2
+    fma = FMA_UNITS if "fma" in flags or width == 8 else 1
+    peak = cores * ghz * fma * width * 2
+    model = info.get("Model name", "CPU")
+    formula = f"{cores} cores × {ghz:.2f} GHz × {fma} FMA units × {width} doubles × 2 = {peak:.1f} GFLOP/s"
+    return peak, f"{model}: {formula}"
+
+
+def roofline(label: str, flops_per_item: float, seconds_per_item: float) -> str:
+    """One line: XLA's flop count per item, the achieved fp64 GFLOP/s and, on a CPU, the share of its peak."""
+    achieved = flops_per_item / seconds_per_item / 1e9
+    line = f"{label}: {flops_per_item:,.0f} flops each (XLA), {achieved:.2f} GFLOP/s"
+    if jax.default_backend() == "cpu":
+        peak, _ = cpu_peak()
+        line += f" = {100 * achieved / peak:.1f} % of the {peak:.0f} GFLOP/s peak"
+    return line
+
+
+def print_peak() -> None:
+    if jax.default_backend() == "cpu":
+        print(f"fp64 peak: {cpu_peak()[1]}")

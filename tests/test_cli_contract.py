@@ -290,7 +290,7 @@ def test_a_run_interrupted_while_writing_its_folder_leaves_the_old_results(tmp_p
 
 
 def test_every_exit_status_is_documented_in_the_readme():
-    from mobman.cli import EXIT_CODES
+    from mobman.cli.app import EXIT_CODES
 
     readme = (ROOT / "README.md").read_text()
     assert all(f"\n| {code} | " in readme for code in EXIT_CODES)

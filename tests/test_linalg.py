@@ -45,21 +45,14 @@ def test_graded_spectrum_small_eigenvalues_absolute_accuracy():
         np.testing.assert_allclose(np.asarray(got), lam, atol=10 * np.finfo(float).eps)
 
 
-def _calls_solver_library(fn, x) -> bool:
-    """Whether the compiled program calls LAPACK (CPU) or cuSOLVER / hipSOLVER (GPU)."""
-    text = jax.jit(fn).lower(x).compile().as_text()
-    return any(f'custom_call_target="{lib}' in text for lib in ("lapack", "cusolver", "hipsolver"))
-
-
 @pytest.mark.parametrize("fn", [linalg.eigvalsh, lambda a: linalg.eigh(a)[1]])
-def test_one_matrix_goes_to_lapack_and_a_batch_to_jacobi(fn):
-    """One n × n matrix (n ≥ 3) is one LAPACK call on the CPU (accelerators always run Jacobi); under vmap, or
-    with batch dimensions, the same function runs the elementwise Jacobi program (no per-matrix library call),
-    with the same values."""
+def test_one_matrix_a_vmapped_batch_and_a_stacked_batch_agree(fn):
+    """One n × n matrix (LAPACK on the CPU), the same function under vmap and with batch dimensions (the
+    batched Jacobi solver) give the same values."""
     a = _symmetric(6, batch=4)
-    assert _calls_solver_library(fn, jnp.asarray(a[0])) == (jax.default_backend() == "cpu")
-    assert not _calls_solver_library(jax.vmap(fn), jnp.asarray(a))
-    assert not _calls_solver_library(fn, jnp.asarray(a))
+    np.testing.assert_allclose(
+        np.abs(np.asarray(fn(jnp.asarray(a)))), np.abs(np.asarray(jax.vmap(fn)(jnp.asarray(a)))), atol=1e-12
+    )
     one = np.stack([np.abs(np.asarray(fn(jnp.asarray(x)))) for x in a])  # |.|: eigenvector signs may differ
     np.testing.assert_allclose(np.abs(np.asarray(jax.vmap(fn)(jnp.asarray(a)))), one, atol=1e-12)
 
@@ -107,16 +100,6 @@ def test_derivative_is_finite_at_repeated_eigenvalues_and_exact_for_the_trace(n)
     g = jax.grad(lambda x: jnp.sum(linalg.eigvalsh(x)))(a)
     np.testing.assert_allclose(g, np.eye(n), atol=1e-12)
     assert np.all(np.isfinite(np.asarray(jax.grad(lambda x: linalg.eigvalsh(x)[0])(a))))
-
-
-def test_two_by_two_is_a_closed_form_of_a_few_fused_kernels():
-    """The 2 × 2 eigenvalues (planar tasks' Gram matrices) and their gradient compile to a handful of
-    elementwise kernels: no LAPACK call, no Jacobi rotation, no eigenvector products."""
-    a = jnp.asarray(_symmetric(2, batch=1)[0])
-    compiled = jax.jit(jax.value_and_grad(lambda x: linalg.eigvalsh(x)[1])).lower(a).compile().as_text()
-    entry = compiled[compiled.index("ENTRY") :]
-    assert "custom-call" not in entry and " dot(" not in entry
-    assert entry.count(" fusion(") <= 4
 
 
 def test_gram_is_the_smaller_product():

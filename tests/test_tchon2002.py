@@ -1,4 +1,4 @@
-"""Reproduction of Tchoń, Jakubiak & Muszyński (2002) §4 (quick mode): the issue's claims on its output."""
+"""Reproduction of Tchoń, Jakubiak & Muszyński (2002) §4 (quick mode): the paper's claims on its output."""
 
 from __future__ import annotations
 

@@ -27,7 +27,8 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
 
 
-def _task(robot: MobileManipulator, task: Task | None) -> Task:
+def resolve_task(robot: MobileManipulator, task: Task | None) -> Task:
+    """The task to evaluate: ``task``, or the robot's own when None, checked against the robot."""
     task = robot.task if task is None else task
     task.check(robot)
     return task
@@ -40,12 +41,14 @@ def _forward_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.nd
     return task.value(robot, q, robot.frames(q))
 
 
-def _jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+def jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+    """J = ∂f/∂q (m × n_q) of one configuration ``q`` (n_q,), unvalidated: for traced code (Bayle §4)."""
     return task.jacobian(robot, q, robot.frames(q))
 
 
-def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
-    return robot.apply_S(_jacobian_one(robot, task, q), q)
+def reduced_jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+    """J̄ = J S (m × δ) of one configuration ``q`` (n_q,), unvalidated: for traced code (Bayle §4.2)."""
+    return robot.apply_S(jacobian_one(robot, task, q), q)
 
 
 # --- public batched API ----------------------------------------------------------------------------
@@ -60,13 +63,13 @@ def _forward(robot, q, task):
 @across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0, 2))
 def _jacobian(robot, q, task):
-    return blocked(partial(_jacobian_one, robot, task))(q)
+    return blocked(partial(jacobian_one, robot, task))(q)
 
 
 @across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0, 2))
 def _reduced_jacobian(robot, q, task):
-    return blocked(partial(_reduced_one, robot, task))(q)
+    return blocked(partial(reduced_jacobian_one, robot, task))(q)
 
 
 @across_cores({1: 1})
@@ -81,7 +84,7 @@ def _constraints(robot, q):
     return blocked(robot.constraints)(q)
 
 
-def _q(robot: MobileManipulator, q):
+def validated_q(robot: MobileManipulator, q):
     """Validated configurations. NumPy arrays go to the compiled functions as they are; a ``jax.Array`` is
     checked on its device and passed on without a copy to the host."""
     if type(q) is np.ndarray:  # the common case first (a call for one configuration is mostly overhead)
@@ -95,32 +98,32 @@ def _q(robot: MobileManipulator, q):
 
 def forward(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
     """Operational coordinates ξ = f(q), shape (..., m)."""
-    return _forward(robot, _q(robot, q), _task(robot, task))
+    return _forward(robot, validated_q(robot, q), resolve_task(robot, task))
 
 
 def jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
     """Jacobian J(q) = ∂f/∂q, shape (..., m, n_q) (Bayle §3)."""
-    return _jacobian(robot, _q(robot, q), _task(robot, task))
+    return _jacobian(robot, validated_q(robot, q), resolve_task(robot, task))
 
 
 def reduced_jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
     """Reduced Jacobian J̄(q) = J(q) S(q), shape (..., m, n_eta): ξ̇ = J̄ η (Bayle eq. 2)."""
-    return _reduced_jacobian(robot, _q(robot, q), _task(robot, task))
+    return _reduced_jacobian(robot, validated_q(robot, q), resolve_task(robot, task))
 
 
 def S(robot: MobileManipulator, q) -> jnp.ndarray:
     """Admissible-velocity basis S(q), shape (..., n_q, n_eta): q̇ = S(q) η."""
-    return _S(robot, _q(robot, q))
+    return _S(robot, validated_q(robot, q))
 
 
 def constraints(robot: MobileManipulator, q) -> jnp.ndarray:
     """Nonholonomic constraint rows G(q), shape (..., n_q − n_eta, n_q): G(q) q̇ = 0."""
-    return _constraints(robot, _q(robot, q))
+    return _constraints(robot, validated_q(robot, q))
 
 
 def frames(robot: MobileManipulator, q):
     """World poses of platform, mounts and arm frames for one configuration (see :class:`Frames`)."""
-    return robot.frames(_q(robot, q))
+    return robot.frames(validated_q(robot, q))
 
 
 def pinv(a: jnp.ndarray) -> jnp.ndarray:
@@ -143,8 +146,8 @@ def inverse_velocity(
     (see :func:`is_consistent`); otherwise it is the least-squares solution of the chosen inverse.
     Returns (η, q̇).
     """
-    task = _task(robot, task)
-    q = _q(robot, q)
+    task = resolve_task(robot, task)
+    q = validated_q(robot, q)
     xi_dot = jnp.asarray(xi_dot, dtype=float)
     if xi_dot.shape[-1] != task.dim:
         raise InputError(f"xi_dot has {xi_dot.shape[-1]} components, the task {task.names} has {task.dim}")
@@ -168,7 +171,7 @@ def rank(a, rtol: float = 1e-9) -> np.ndarray:
 
 def is_consistent(robot: MobileManipulator, q, xi_dot, task: Task | None = None, rtol: float = 1e-9):
     """Consistency of the reduced kinematics: rank[J̄ | ξ̇] = rank J̄ (Bayle §4.3), batched."""
-    task = _task(robot, task)
+    task = resolve_task(robot, task)
     jbar = np.asarray(reduced_jacobian(robot, q, task))
     xi_dot = np.asarray(xi_dot, dtype=float)
     xi_dot = np.broadcast_to(xi_dot, jbar.shape[:-1])

@@ -260,8 +260,8 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
 def _jacobian_one_of(robot: MobileManipulator, task: Task, which: str, q: jnp.ndarray) -> jnp.ndarray:
     """J_a, J̄ or J̄_N of one configuration (the kernel of the batched functions below)."""
     if which == "arm":
-        return K._jacobian_one(robot, task, q)[:, robot.arm_slice(0)]
-    j = K._reduced_one(robot, task, q)
+        return K.jacobian_one(robot, task, q)[:, robot.arm_slice(0)]
+    j = K.reduced_jacobian_one(robot, task, q)
     return j * np.asarray(robot.velocity_limits) if which == "system_normalized" else j
 
 
@@ -288,7 +288,7 @@ def _check_options(
         raise InputError(f"which must be one of {', '.join(WHICH)}, got {which!r}")
     if which == "system_normalized":
         _limits(robot)
-    task = K._task(robot, task)
+    task = K.resolve_task(robot, task)
     r = _resolve_rank(robot, task, which, rank)
     _check_rank(r, min(task.dim, robot.arms[0].n_joints if which == "arm" else robot.n_eta))
     return task, None if r is None else int(r)
@@ -316,7 +316,7 @@ def jacobian_and_measures(
     wait for the first call's result before the second starts.
     """
     task, r = _prepare(robot, which, task, rank)
-    return _jacobian_and_measures(robot, K._q(robot, q), task, which, r)
+    return _jacobian_and_measures(robot, K.validated_q(robot, q), task, which, r)
 
 
 @across_cores({1: 1})
@@ -343,7 +343,7 @@ def gradient(
     if measure not in MEASURES:
         raise InputError(f"measure must be one of {', '.join(MEASURES)}, got {measure!r}")
     task, r = _prepare(robot, which, task, rank)
-    return _gradient(robot, K._q(robot, q), task, which, measure, r)
+    return _gradient(robot, K.validated_q(robot, q), task, which, measure, r)
 
 
 __all__ = [

@@ -1,7 +1,7 @@
 """The ``mobman`` command: one Typer application, one module per command group.
 
 Every :class:`mobman.MobmanError` (and a bad option value) ends as one line on standard error and exit
-status 2, never a traceback; see :data:`EXIT_CODES` for the others.
+status 2, never a traceback; see :data:`mobman.cli.app.EXIT_CODES` for the others.
 """
 
 from __future__ import annotations
@@ -10,30 +10,10 @@ import sys
 
 import typer
 
-from mobman.errors import MobmanError
-
-EXIT_CODES = {
-    0: "success",
-    1: "unexpected failure (one line naming the command; please report it)",
-    2: "bad input: an option, a file or an output folder (one line naming the field)",
-    3: "the run finished without reaching its goal (not converged, saturated, unbounded); results written",
-    130: "interrupted (Ctrl-C); partial output removed",
-}
-"""Exit status of the ``mobman`` command."""
-
-NOT_REACHED = 3
-INTERRUPTED = 130
-
-app = typer.Typer(
-    name="mobman",
-    help="Kinematics, manipulability, control, planning and dynamics of nonholonomic mobile manipulators.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-)
-
 # Each module registers its commands on ``app`` when imported.
-from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate  # noqa: E402,F401
+from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate  # noqa: F401
+from mobman.cli.app import INTERRUPTED, app
+from mobman.errors import MobmanError
 
 
 def _one_line(text: str) -> str:

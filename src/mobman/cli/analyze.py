@@ -23,7 +23,7 @@ from rich.table import Table
 from mobman import kinematics as K
 from mobman import manipulability as mp
 from mobman import redundancy
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.cli.common import load_robot, read_configurations
 from mobman.errors import InputError
 from mobman.io import dump_json

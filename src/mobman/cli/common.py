@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from mobman.cli import NOT_REACHED
+from mobman.cli.app import NOT_REACHED
 from mobman.errors import InputError
 from mobman.io.numbers import parse_number, parse_vector
 from mobman.io.spec import read_text

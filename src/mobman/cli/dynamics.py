@@ -58,11 +58,11 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.cli.common import MAX_STEPS, check_steps, not_reached
 from mobman.control.spec import parse as parse_control
 from mobman.errors import InputError
-from mobman.io import dump_json
+from mobman.io import dump_json, robot_file
 from mobman.io import spec as fields
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
 
@@ -276,7 +276,7 @@ def _motion(data: dict, robot, max_steps: int):
 def parse(data: dict, base: Path | None = None, max_steps: int = MAX_STEPS) -> LoadSpec:
     """Build a :class:`LoadSpec` from a TOML document already read into a dict (the motion is simulated)."""
     fields.keys(data, "spec", TOP_KEYS)
-    robot = fields.robot(data, base)
+    robot = robot_file.robot_table(data, base)
     model = _inertials(data, robot)
     actuators = _actuators(data, model.actuator_names, model.robot.name)
     t, q, eta, motion = _motion(data, model.robot, max_steps)

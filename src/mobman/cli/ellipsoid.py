@@ -20,7 +20,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.cli.common import load_robot
 from mobman.dynamics import DynamicModel, yamamoto_platform
 from mobman.dynamics.ellipsoids import GRASPS, Ellipsoid, dynamic_ellipsoid, kinematic_ellipsoid

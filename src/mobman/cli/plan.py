@@ -19,7 +19,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.cli.common import load_robot, not_reached
 from mobman.errors import InputError
 from mobman.io import dump_json

@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 from rich.console import Console
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.errors import InputError
 from mobman.experiments import REPRODUCTIONS, module
 from mobman.io.output import check_folder, parent_folder, results_folder, write_text

@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.io import dump_json
 from mobman.model.real_robots import EXTRA, REAL_ROBOTS
 from mobman.model.robots import ROBOTS

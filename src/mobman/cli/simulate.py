@@ -10,7 +10,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
-from mobman.cli import app
+from mobman.cli.app import app
 from mobman.cli.common import MAX_STEPS, check_steps, not_reached
 from mobman.io import dump_json
 from mobman.io.output import check_folder, results_folder, save_figure, write_text

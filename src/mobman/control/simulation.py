@@ -230,7 +230,8 @@ def _stack_laws(laws: Sequence) -> object:
         raise ModelError(f"laws in a batch must differ only in their gains and damping: {exc}") from None
 
 
-def _measure_names(names: Sequence[str]) -> list[tuple[str, str, str]]:
+def parse_measure_names(names: Sequence[str]) -> list[tuple[str, str, str]]:
+    """``<which>_<w|w2|w5>`` measure names as (name, which, measure key); an InputError names a bad one."""
     parsed = []
     for name in names:
         which, _, suffix = name.rpartition("_")
@@ -258,7 +259,7 @@ def _measure_chunk(robot, task, which, q):
 
 def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarray]:
     """Manipulability measures named ``<which>_<w|w2|w5>`` along a (batched) path of configurations."""
-    parsed = _measure_names(names)
+    parsed = parse_measure_names(names)
     q = np.asarray(q, dtype=float)
     flat = q.reshape(-1, q.shape[-1])
     if not len(flat):
@@ -329,7 +330,7 @@ def simulate(
     if batch_law and batch_q and len(laws) != q0.shape[0]:
         raise InputError(f"q0 batch ({q0.shape[0]}) and law batch ({len(laws)}) must have the same size")
     law_arg = _stack_laws(laws) if batch_law else law
-    _measure_names(measures)
+    parse_measure_names(measures)
 
     chunk = n if progress is None else max(1, min(chunk, n))
     run = _run_shared if batch_q and not batch_law else _run

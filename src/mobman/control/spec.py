@@ -54,8 +54,9 @@ from typing import Any
 import numpy as np
 
 from mobman.control import criteria, laws, references
-from mobman.control.simulation import INTEGRATORS, _measure_names
+from mobman.control.simulation import INTEGRATORS, parse_measure_names
 from mobman.errors import InputError, MobmanError
+from mobman.io import robot_file
 from mobman.io import spec as fields
 from mobman.io.numbers import parse_vector
 from mobman.model import robots, spatial
@@ -301,7 +302,7 @@ def _law(data: dict):
 def parse(data: dict, base: Path | None = None) -> Spec:
     """Build a :class:`Spec` from a TOML document already read into a dict."""
     fields.keys(data, "spec", TOP_KEYS)
-    robot = fields.robot(data, base)
+    robot = robot_file.robot_table(data, base)
     task_table = fields.table(data, "task", "task", required=False)
     task = robot.task if task_table is None else _task(task_table, "task")
     try:
@@ -317,7 +318,7 @@ def parse(data: dict, base: Path | None = None) -> Spec:
     measures = data.get("measures", [])
     if not isinstance(measures, list) or not all(isinstance(m, str) for m in measures):
         raise InputError(f'measures: a list of names such as "system_w5", got {measures!r}')
-    _measure_names(measures)
+    parse_measure_names(measures)
     integrator = data.get("integrator", "auto")
     if integrator not in INTEGRATORS:
         raise InputError(f"integrator: {integrator!r} not one of {', '.join(INTEGRATORS)}")

@@ -312,7 +312,8 @@ def _actuation(model, q):
     return blocked(partial(actuation_matrix_one, model))(q)
 
 
-def _q(model: DynamicModel, q):
+def validated_q(model: DynamicModel, q):
+    """Configurations of ``model``'s robot checked for shape and finiteness (traced values pass as they are)."""
     if isinstance(q, jax.core.Tracer):
         return q
     return jnp.asarray(model.robot.validate_q(q))
@@ -330,39 +331,41 @@ def _q_dot(model: DynamicModel, q_dot, name: str = "q_dot"):
 
 def mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
     """M(q), shape (..., n_q, n_q), symmetric positive definite."""
-    return _mass(model, _q(model, q))
+    return _mass(model, validated_q(model, q))
 
 
 def bias(model: DynamicModel, q, q_dot) -> jnp.ndarray:
     """c(q, q̇) + g(q), shape (..., n_q)."""
-    return _bias(model, _q(model, q), _q_dot(model, q_dot))
+    return _bias(model, validated_q(model, q), _q_dot(model, q_dot))
 
 
 def generalized_force(model: DynamicModel, q, q_dot, q_ddot) -> jnp.ndarray:
     """M(q) q̈ + c(q, q̇) + g(q), shape (..., n_q), by Newton–Euler (:func:`body_forces_one`): the
     unconstrained inverse dynamics, equal to ``mass_matrix(q) @ q_ddot + bias(q, q_dot)`` at a fraction of
     the cost."""
-    return _generalized_force(model, _q(model, q), _q_dot(model, q_dot), _q_dot(model, q_ddot, "q_ddot"))
+    return _generalized_force(
+        model, validated_q(model, q), _q_dot(model, q_dot), _q_dot(model, q_ddot, "q_ddot")
+    )
 
 
 def gravity_vector(model: DynamicModel, q) -> jnp.ndarray:
     """g(q) = ∂V/∂q, shape (..., n_q)."""
-    return _gravity(model, _q(model, q))
+    return _gravity(model, validated_q(model, q))
 
 
 def potential_energy(model: DynamicModel, q) -> jnp.ndarray:
     """V(q), shape (...)."""
-    return _potential(model, _q(model, q))
+    return _potential(model, validated_q(model, q))
 
 
 def coriolis_matrix(model: DynamicModel, q, q_dot) -> jnp.ndarray:
     """C(q, q̇) (Christoffel form), shape (..., n_q, n_q); c = C q̇ and Ṁ − 2C is skew-symmetric."""
-    return _coriolis(model, _q(model, q), _q_dot(model, q_dot))
+    return _coriolis(model, validated_q(model, q), _q_dot(model, q_dot))
 
 
 def actuation_matrix(model: DynamicModel, q) -> jnp.ndarray:
     """E(q), shape (..., n_q, n_actuators)."""
-    return _actuation(model, _q(model, q))
+    return _actuation(model, validated_q(model, q))
 
 
 def wheel_angle_rates(model: DynamicModel, q, q_dot) -> jnp.ndarray:
@@ -370,7 +373,7 @@ def wheel_angle_rates(model: DynamicModel, q, q_dot) -> jnp.ndarray:
     q_v = (x_o, y_o, θ_r, θ_l), whose heading is ϕ = c (θ_r − θ_l), c = r/(2b) (eq. 4)."""
     if not isinstance(model.robot.platform, DifferentialDrive):
         raise InputError("wheel_angle_rates: the platform must be a DifferentialDrive")
-    rows = jnp.vectorize(partial(wheel_rows, model), signature="(n)->(w,n)")(_q(model, q))
+    rows = jnp.vectorize(partial(wheel_rows, model), signature="(n)->(w,n)")(validated_q(model, q))
     return jnp.einsum("...wn,...n->...w", rows, _q_dot(model, q_dot))
 
 

@@ -175,9 +175,9 @@ def load_torques(model: DynamicModel, q, eta, eta_dot, payload: Payload | None =
 
 
 def _motion(model: DynamicModel, q, eta, eta_dot):
-    q = eq._q(model, q)
-    eta = reduced._eta(model, eta, "eta")
-    eta_dot = reduced._eta(model, eta_dot, "eta_dot")
+    q = eq.validated_q(model, q)
+    eta = reduced.validated_eta(model, eta, "eta")
+    eta_dot = reduced.validated_eta(model, eta_dot, "eta_dot")
     if q.ndim != 2 or eta.shape != (q.shape[0], model.robot.n_eta) or eta_dot.shape != eta.shape:
         raise InputError(
             f"motion: q must be (N, {model.robot.n_q}) and eta, eta_dot (N, {model.robot.n_eta}) "

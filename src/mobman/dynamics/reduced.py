@@ -138,7 +138,9 @@ def _constraint_forces(model, q, eta, eta_dot, tau):
     return blocked(partial(constraint_forces_one, model))(q, eta, eta_dot, tau)
 
 
-def _eta(model: DynamicModel, value, name: str):
+def validated_eta(model: DynamicModel, value, name: str):
+    """A quasi-velocity-sized array (η, η̇ or τ) checked for shape and finiteness; errors name ``name``
+    (traced values pass as they are)."""
     if isinstance(value, jax.core.Tracer):
         return value
     arr = jnp.asarray(value, dtype=float)
@@ -155,39 +157,39 @@ def _eta(model: DynamicModel, value, name: str):
 
 def reduced_mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
     """P(q) = Sᵀ M S, shape (..., n_eta, n_eta) (Yamamoto eq. 15)."""
-    return _reduced_mass(model, eq._q(model, q))
+    return _reduced_mass(model, eq.validated_q(model, q))
 
 
 def reduced_bias(model: DynamicModel, q, eta) -> jnp.ndarray:
     """b(q, η) = Sᵀ M Ṡ η + Sᵀ (c + g), shape (..., n_eta) (−ξ of Yamamoto eq. 16)."""
-    return _terms(model, eq._q(model, q), _eta(model, eta, "eta"))[1]
+    return _terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))[1]
 
 
 def input_matrix(model: DynamicModel, q) -> jnp.ndarray:
     """B(q) = Sᵀ E, shape (..., n_eta, n_actuators) (Yamamoto's Q, eq. 16)."""
-    return _input(model, eq._q(model, q))
+    return _input(model, eq.validated_q(model, q))
 
 
 def inverse_dynamics(model: DynamicModel, q, eta, eta_dot) -> jnp.ndarray:
     """Actuator torques τ = B⁻¹ (P η̇ + b), shape (..., n_actuators); batched over time or configurations."""
-    eta_dot = _eta(model, eta_dot, "eta_dot")
-    return _solve_inverse(*_terms(model, eq._q(model, q), _eta(model, eta, "eta")), eta_dot)
+    eta_dot = validated_eta(model, eta_dot, "eta_dot")
+    return _solve_inverse(*_terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta")), eta_dot)
 
 
 def forward_dynamics(model: DynamicModel, q, eta, tau) -> jnp.ndarray:
     """η̇ = P⁻¹ (B τ − b), shape (..., n_eta)."""
-    tau = _eta(model, tau, "tau")
-    return _solve_forward(*_terms(model, eq._q(model, q), _eta(model, eta, "eta")), tau)
+    tau = validated_eta(model, tau, "tau")
+    return _solve_forward(*_terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta")), tau)
 
 
 def reduced_terms(model: DynamicModel, q, eta):
     """(P, b, B) at once (one compiled evaluation), shapes (..., k, k), (..., k), (..., k, a)."""
-    return _terms(model, eq._q(model, q), _eta(model, eta, "eta"))
+    return _terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))
 
 
 def energy(model: DynamicModel, q, eta) -> jnp.ndarray:
     """Total mechanical energy ½ ηᵀ P η + V(q), shape (...)."""
-    return _energy(model, eq._q(model, q), _eta(model, eta, "eta"))
+    return _energy(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))
 
 
 def constraint_forces(model: DynamicModel, q, eta, eta_dot, tau):
@@ -196,10 +198,10 @@ def constraint_forces(model: DynamicModel, q, eta, eta_dot, tau):
     reduced equations hold: the constraint forces drop out of them exactly)."""
     return _constraint_forces(
         model,
-        eq._q(model, q),
-        _eta(model, eta, "eta"),
-        _eta(model, eta_dot, "eta_dot"),
-        _eta(model, tau, "tau"),
+        eq.validated_q(model, q),
+        validated_eta(model, eta, "eta"),
+        validated_eta(model, eta_dot, "eta_dot"),
+        validated_eta(model, tau, "tau"),
     )
 
 

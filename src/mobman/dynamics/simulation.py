@@ -86,7 +86,7 @@ def simulate(
     if not (np.isfinite(dt) and 0 < dt <= duration):
         raise InputError(f"simulate: dt must be in (0, duration = {duration}] s, got {dt!r}")
     q0 = jnp.asarray(model.robot.validate_q(q0))
-    eta0 = reduced._eta(model, eta0, "eta0")
+    eta0 = reduced.validated_eta(model, eta0, "eta0")
     steps = int(round(duration / dt))
     q, eta, tau = _simulate(model, q0, eta0, torque_fn, steps, float(dt))
     return SimulationResult(np.arange(steps + 1) * dt, np.asarray(q), np.asarray(eta), np.asarray(tau))

@@ -432,7 +432,7 @@ def _report(settings, claims, records, exact_records) -> str:
         "## Claims",
         "",
         "Each row is evaluated for a rigid grasp and for a point (pivot) grasp, see the discussion. "
-        "The issue's four claims are rows 1, 2, 4–5 and 6–7 (kinematic 90° minor axis; kinematic 0° uniform growth; "
+        "The four claims of the paper's discussion are rows 1, 2, 4–5 and 6–7 (kinematic 90° minor axis; kinematic 0° uniform growth; "
         "dynamic ≈ fixed dual arm at large wheel torque; dynamic 90° major axis unchanged); rows 3 and 8–9 are the "
         "paper's other statements.",
         "",

@@ -33,6 +33,7 @@ from pathlib import Path
 
 from mobman.errors import InputError
 from mobman.io import spec as fields
+from mobman.model import robots
 from mobman.model.arm import Arm
 from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional
 from mobman.model.robot import MobileManipulator, Mount
@@ -129,3 +130,23 @@ def load(path: Path | str) -> MobileManipulator:
     data = fields.read_toml(Path(path))
     with fields.naming(path):
         return parse(data)
+
+
+def robot_table(data: dict, base: Path | None = None) -> MobileManipulator:
+    """The robot of the ``[robot]`` table: a built-in ``name`` with optional ``params`` (NAME = number), or a
+    robot description ``file`` (this module's format, a path relative to ``base``)."""
+    entry = fields.table(data, "robot", "robot")
+    fields.keys(entry, "robot", ("name", "params", "file"))
+    if "file" in entry:
+        if "name" in entry or "params" in entry:
+            raise InputError("robot: give either file or name (with params), not both")
+        path = Path(fields.text(entry, "file", "robot"))
+        return load(path if base is None or path.is_absolute() else base / path)
+    name = entry.get("name")
+    if not isinstance(name, str):
+        raise InputError(f"robot.name: a built-in robot name ({', '.join(robots.ROBOTS)}), got {name!r}")
+    params = entry.get("params", {})
+    if not isinstance(params, dict):
+        raise InputError(f"robot.params: must be a table of NAME = number, got {params!r}")
+    params = {k: fields.number(params, k, "robot.params") for k in params}
+    return fields.build("robot", robots.build, name=name, **params)

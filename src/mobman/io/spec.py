@@ -15,8 +15,6 @@ import numpy as np
 
 from mobman.errors import InputError, MobmanError
 from mobman.io.numbers import MAX_MAGNITUDE
-from mobman.model import robots
-from mobman.model.robot import MobileManipulator
 
 MAX_FILE_BYTES = 16 * 2**20
 """Largest accepted robot or specification file."""
@@ -195,25 +193,3 @@ def build(field: str, factory, /, **kwargs):
         return factory(**kwargs)
     except (MobmanError, TypeError, ValueError) as exc:
         raise InputError(f"{field}: {' '.join(str(exc).split())}") from None
-
-
-def robot(data: dict, base: Path | None = None) -> MobileManipulator:
-    """The robot of the ``[robot]`` table: a built-in ``name`` with optional ``params`` (NAME = number), or a
-    robot description ``file`` (:mod:`mobman.io.robot_file`, a path relative to ``base``)."""
-    entry = table(data, "robot", "robot")
-    keys(entry, "robot", ("name", "params", "file"))
-    if "file" in entry:
-        from mobman.io import robot_file
-
-        if "name" in entry or "params" in entry:
-            raise InputError("robot: give either file or name (with params), not both")
-        path = Path(text(entry, "file", "robot"))
-        return robot_file.load(path if base is None or path.is_absolute() else base / path)
-    name = entry.get("name")
-    if not isinstance(name, str):
-        raise InputError(f"robot.name: a built-in robot name ({', '.join(robots.ROBOTS)}), got {name!r}")
-    params = entry.get("params", {})
-    if not isinstance(params, dict):
-        raise InputError(f"robot.params: must be a table of NAME = number, got {params!r}")
-    params = {k: number(params, k, "robot.params") for k in params}
-    return build("robot", robots.build, name=name, **params)

@@ -26,7 +26,7 @@ import numpy as np
 
 from mobman.errors import ConvergenceError, InputError
 from mobman.model.task import Task
-from mobman.planning.endpoint import PlanningSetting, _endpoint_of, _variational, output_jacobian
+from mobman.planning.endpoint import PlanningSetting, endpoint_of_task, output_jacobian, variational_of_task
 
 ALGORITHMS = ("pinv", "extended", "adjoint")
 
@@ -140,9 +140,9 @@ def _direction(setting: PlanningSetting, kernel: Kernel, algorithm, z, q0, y_d):
     the Gram matrix inverted (1 for the adjoint). K is integrated with ``setting.steps``, the variational
     system with ``setting.jacobian_steps``; ``algorithm`` indexes ``ALGORITHMS`` (a traced ``lax.switch``)."""
     coarse = setting.jacobian_setting
-    v = _variational(coarse, setting.output, z, q0, False)
+    v = variational_of_task(coarse, setting.output, z, q0, False)
     J = v.J
-    e = _endpoint_of(setting, setting.output, z, q0) - y_d
+    e = endpoint_of_task(setting, setting.output, z, q0) - y_d
     _, x = setting.split(z)
 
     def pinv():
@@ -175,7 +175,7 @@ def _line_search(setting, z, q0, y_d, e, J, d):
     v0 = 0.5 * e @ e
 
     def value(alpha):
-        e_new = _endpoint_of(setting, setting.output, z + alpha * d, q0) - y_d
+        e_new = endpoint_of_task(setting, setting.output, z + alpha * d, q0) - y_d
         return 0.5 * e_new @ e_new
 
     def cond(state):
@@ -191,7 +191,7 @@ def _line_search(setting, z, q0, y_d, e, J, d):
 
 
 @partial(jax.jit, static_argnums=(0, 1))
-def _solve(
+def solve_loop(
     setting: PlanningSetting, kernel: Kernel, z0, q0, y_d, algorithm, adaptive, step, gamma, tol
 ) -> Plan:
     """The compiled loop (see :meth:`Options.arguments` for the traced arguments)."""
@@ -240,7 +240,7 @@ def solve(setting: PlanningSetting, options: Options, z0, q0, y_d) -> Plan:
     The algorithm, the step mode, Δθ, γ and the tolerance are traced arguments: changing them does not
     recompile (only :attr:`Options.kernel` does).
     """
-    return _solve(
+    return solve_loop(
         setting,
         options.kernel,
         jnp.asarray(z0, float),
@@ -301,7 +301,7 @@ def plan(
     z0 = np.asarray(z0, float)
     q0 = np.asarray(q0, float)
     y_d = np.asarray(y_d, float)
-    _check_sizes(setting, z0, q0, y_d)
+    check_sizes(setting, z0, q0, y_d)
     result = to_result(setting, solve(setting, options, z0, q0, y_d))
     if raise_on_failure and not result.converged:
         raise ConvergenceError(
@@ -312,7 +312,8 @@ def plan(
     return result
 
 
-def _check_sizes(setting: PlanningSetting, z0, q0, y_d) -> None:
+def check_sizes(setting: PlanningSetting, z0, q0, y_d) -> None:
+    """An InputError naming z0, q0 or y_d when its last dimension does not fit ``setting``."""
     checks = (
         ("z0 (endogenous configuration)", z0, setting.n_z),
         ("q0 (platform start)", q0, setting.robot.platform.n_q),
@@ -331,7 +332,7 @@ def dexterity_gradient(setting: PlanningSetting, gain: float = 1.0) -> Callable:
 
     def w(z, q0):
         def d2(zz):
-            J = _variational(setting.jacobian_setting, setting.output, zz, q0, False).J
+            J = variational_of_task(setting.jacobian_setting, setting.output, zz, q0, False).J
             return jnp.linalg.det(J @ J.T)
 
         return gain * jax.jacfwd(d2)(z)  # forward mode: n_z is small and it compiles much faster

@@ -9,7 +9,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mobman.planning.algorithms import STATUS, Options, PlanResult, _check_sizes, _solve
+from mobman.planning.algorithms import STATUS, Options, PlanResult, check_sizes, solve_loop
 from mobman.planning.endpoint import PlanningSetting
 
 
@@ -51,14 +51,14 @@ class BatchResult:
 def _solve_batch(setting, kernel, z0, q0, y_d, *arguments):
     """vmap over problems only: the algorithm and the step mode stay unbatched, so their branches are real
     ``lax.switch``/``lax.cond`` (only the chosen one runs)."""
-    return jax.vmap(lambda z, q, y: _solve(setting, kernel, z, q, y, *arguments))(z0, q0, y_d)
+    return jax.vmap(lambda z, q, y: solve_loop(setting, kernel, z, q, y, *arguments))(z0, q0, y_d)
 
 
 def plan_batch(setting: PlanningSetting, z0, q0, y_d, options: Options = Options()) -> BatchResult:
     """Solve K_{q0,T}(z) = y_d for a batch: z0 (B, n_z), q0 (B, n_p), y_d (B, r), or any of them unbatched
     (broadcast). One compiled, vectorised call; the loop runs until every problem has stopped."""
     z0, q0, y_d = (np.asarray(a, float) for a in (z0, q0, y_d))
-    _check_sizes(setting, z0, q0, y_d)
+    check_sizes(setting, z0, q0, y_d)
     size = max(a.shape[0] if a.ndim == 2 else 1 for a in (z0, q0, y_d))
     z0, q0, y_d = (np.broadcast_to(a, (size, a.shape[-1])) for a in (z0, q0, y_d))
     out = _solve_batch(

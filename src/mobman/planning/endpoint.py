@@ -187,7 +187,8 @@ def _velocity(setting: PlanningSetting, q: jnp.ndarray, u: jnp.ndarray) -> jnp.n
     return matvec(setting.robot.platform.S(q), u)
 
 
-def _endpoint_of(setting: PlanningSetting, task: Task, z, q0) -> jnp.ndarray:
+def endpoint_of_task(setting: PlanningSetting, task: Task, z, q0) -> jnp.ndarray:
+    """K_{q0,T}(z) (Tchoń et al. 2002, eq. 3) for any output ``task``, one configuration, traceable."""
     lam, x = setting.split(z)
     q_T, _ = _integrate(setting, lambda q, phi: _velocity(setting, q, _control(lam, phi)), q0)
     return _output(setting, task, q_T, x)
@@ -195,7 +196,7 @@ def _endpoint_of(setting: PlanningSetting, task: Task, z, q0) -> jnp.ndarray:
 
 @partial(jax.jit, static_argnums=(0,))
 def _endpoint(setting, z, q0):
-    return _endpoint_of(setting, setting.output, z, q0)
+    return endpoint_of_task(setting, setting.output, z, q0)
 
 
 def endpoint(setting: PlanningSetting, z, q0) -> jnp.ndarray:
@@ -219,7 +220,8 @@ def trajectory(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray,
     return np.linspace(0.0, setting.horizon, setting.steps + 1), np.asarray(q_p), np.asarray(y)
 
 
-def _variational(setting: PlanningSetting, task: Task, z, q0, with_mobility: bool) -> Variational:
+def variational_of_task(setting: PlanningSetting, task: Task, z, q0, with_mobility: bool) -> Variational:
+    """Endpoint, Jacobian (Tchoń et al. 2002, eqs. 5–8) and optionally 𝓜 for any output ``task``, traceable."""
     lam, x = setting.split(z)
     n_p = q0.shape[0]
     platform = setting.robot.platform
@@ -242,7 +244,7 @@ def _variational(setting: PlanningSetting, task: Task, z, q0, with_mobility: boo
 
 @partial(jax.jit, static_argnums=(0, 3))
 def _variational_jit(setting, z, q0, with_mobility):
-    return _variational(setting, setting.output, z, q0, with_mobility)
+    return variational_of_task(setting, setting.output, z, q0, with_mobility)
 
 
 def variational(setting: PlanningSetting, z, q0, with_mobility: bool = True) -> Variational:
@@ -267,7 +269,7 @@ def endpoint_jacobian(setting: PlanningSetting, z, q0, method: str = "variationa
 
 @partial(jax.jit, static_argnums=(0, 1))
 def _extended_jacobian(setting, extension, z, q0):
-    v = _variational(setting, setting.output, z, q0, False)
+    v = variational_of_task(setting, setting.output, z, q0, False)
     _, x = setting.split(z)
     return jnp.concatenate([v.J, output_jacobian(setting, extension, v.q_T, v.Xi, x)])
 
@@ -285,7 +287,7 @@ def mobility_matrix(setting: PlanningSetting, z, q0) -> jnp.ndarray:
 
 @partial(jax.jit, static_argnums=(0, 3))
 def _dexterity_matrix(setting, z, q0, parametric):
-    v = _variational(setting, setting.output, z, q0, not parametric)
+    v = variational_of_task(setting, setting.output, z, q0, not parametric)
     return v.J @ v.J.T if parametric else v.C @ v.mobility @ v.C.T + v.D @ v.D.T
 
 
