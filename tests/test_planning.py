@@ -207,3 +207,14 @@ def test_piecewise_constant_controls_plan_to_machine_precision():
     assert result.converged and result.final_error <= 1e-12
     fine = PlanningSetting(tchon_car_rtr(), PiecewiseConstant(5), steps=4 * setting.steps)
     assert np.abs(np.asarray(endpoint(fine, result.z, q0)) - [0.0, 0.0, 1.0]).max() < 1e-12
+
+
+def test_a_pose_output_is_refused_with_a_clear_error():
+    """The planners subtract endpoints (y_d − K(z)): a Pose task, whose error is log(R* Rᵀ), is refused."""
+    from mobman.model.robots import panda_differential
+    from mobman.model.task import Pose
+
+    with pytest.raises(InputError, match="planning output .*not a pose"):
+        PlanningSetting(panda_differential(), task=Pose())
+    with pytest.raises(InputError, match="not a pose"):
+        PlanningSetting(panda_differential())  # its own task is the flange pose

@@ -81,6 +81,13 @@ class PlanningSetting:
         object.__setattr__(self, "horizon", float(self.horizon))
         if self.task is not None:
             self.task.check(self.robot)
+        if not self.output.euclidean:
+            # the planners (Tchoń et al. 2002, eqs. 9-20) solve K(z) = y_d with y_d − K(z) as the error and
+            # ∂K/∂z as its Jacobian: an output whose error is not a difference (a Pose) has no meaning there
+            raise InputError(
+                f"planning output {', '.join(self.output.names)}: the planners need a task whose value is a "
+                "point of Rᵐ (positions, angles), not a pose; plan to a position with Position()"
+            )
 
     @property
     def output(self) -> Task:
