@@ -21,12 +21,12 @@ from rich.table import Table
 from mobman.cli import app
 from mobman.cli.common import load_robot, parse_vector
 from mobman.errors import InputError
-from mobman.io import dump_json
+from mobman.io import dump_json, trajectories
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, plan
 from mobman.planning.basis import Fourier
-from mobman.planning.endpoint import PlanningSetting, dexterity
+from mobman.planning.endpoint import PlanningSetting, configuration_path, dexterity
 from mobman.planning.figures import plot_convergence, plot_paths
 
 DEFAULT_EXTENSIONS = {"tchon-car-rtr": "q[6], q[2] + q[4]"}
@@ -159,6 +159,8 @@ def plan_command(
     }
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
+        t, q = configuration_path(setting, result.z, q0)
+        trajectories.write(out, [trajectories.Motion.of(f"{algorithm}, {result.status}", robot, t, q)])
         report["figures"] = [
             str(p)
             for p in (

@@ -11,7 +11,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
 from mobman.cli import app
-from mobman.io import dump_json
+from mobman.io import dump_json, trajectories
 
 PROGRESS_STEPS = 5000
 """Runs with more steps than this show a progress bar (computed in compiled chunks)."""
@@ -54,6 +54,7 @@ def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
     (out / "results.json").write_text(
         dump_json({"spec": str(spec_path), "metrics": summary, "series": series})
     )
+    trajectories.write(out, [trajectories.Motion.of(spec_path.stem, result.robot, result.t, result.q)])
     figures = [out / "paths.png", out / "timeseries.png"]
     plot_paths(result.robot, result.q, reference=result.xi_star[:, :2]).savefig(figures[0], dpi=120)
     panels = {

@@ -29,6 +29,7 @@ from mobman import viz
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.control.simulation import SimulationResult
 from mobman.experiments.report import Reproduction
+from mobman.io import trajectories
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator, Mount
 
@@ -205,7 +206,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     out.mkdir(parents=True, exist_ok=True)
     robot = manus_robot()
     dt = 1 / 32 if quick else 1 / 64  # binary fractions: k · dt is exact, the reference ends exactly at t = T
-    entries, figures = [], []
+    entries, figures, motions = [], [], []
     for case in CASES:
         chosen: dict[str, SimulationResult] = {}
         for strategy in STRATEGIES:
@@ -218,6 +219,10 @@ def run(out: Path, quick: bool = False) -> Reproduction:
                 entries.append(summarize(case, strategy, gain, r, robot))
                 if gain is None or gain == GAIN:
                     chosen[strategy] = r
+                    label = strategy if gain is None else f"{strategy}, W = {gain:g}"
+                    motions.append(
+                        trajectories.Motion.of(f"case {case}: {label}", robot, r.t, r.q, manus_robot)
+                    )
                     fig = strategy_figure(robot, case, strategy, gain, r)
                     path = out / f"fig{FIGURES[case, strategy]}_case{case}_{strategy}.png"
                     fig.savefig(path, dpi=100)
@@ -233,6 +238,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
             title=f"case {case}, system_w5_normalized, W = {GAIN:g}",
         ).savefig(path, dpi=100)
         figures.append(path)
+    trajectories.write(out, motions)
     return Reproduction(NAME, TITLE, entries, report(entries, dt), figures)
 
 
