@@ -21,7 +21,7 @@ app = typer.Typer(
 )
 
 # Each module registers its commands on ``app`` when imported.
-from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate  # noqa: E402,F401
+from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate, view  # noqa: E402,F401
 
 
 def main(argv: list[str] | None = None) -> None:

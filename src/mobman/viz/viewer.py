@@ -23,6 +23,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+import jax
 import numpy as np
 import trimesh
 import viser
@@ -48,10 +49,13 @@ EE_PATH_COLOR = (20, 160, 60)
 PLATFORM_PATH_COLOR = (150, 60, 200)
 MEASURES = {"yoshikawa": "w", "inverse_condition": "w2", "eccentricity": "w5"}
 """The measures of the panel, by their symbols in Nait-Chabane et al. (2006), eq. 17–19."""
+CHUNK = 128
+"""Configurations per compiled block."""
 ELLIPSOID_SIZE = 0.35
 """Largest semi-axis drawn (m) for the first configuration shown; the factor then stays fixed."""
 
 
+@jax.tree_util.register_dataclass
 @dataclass(frozen=True)
 class Snapshot:
     """What the viewer draws for a batch of configurations (leading axis T): the frames (platform pose, joint
@@ -70,46 +74,51 @@ class Snapshot:
 
     def at(self, k: int) -> "Snapshot":
         """The k-th configuration, as a batch of one."""
-        return Snapshot(
-            self.q[k : k + 1],
-            tuple(a[k : k + 1] for a in self.platform),
-            tuple(tuple(a[k : k + 1] for a in link) for link in self.links),
-            self.centre[k : k + 1],
-            self.axes[k : k + 1],
-            self.directions[k : k + 1],
-            self.jbar[k : k + 1],
-            {n: v[k : k + 1] for n, v in self.measures.items()},
-            self.vsc[k : k + 1],
-            self.ksc[k : k + 1],
-        )
+        return jax.tree.map(lambda a: a[k : k + 1], self)
 
 
 def evaluate(robot: MobileManipulator, q, normalized: bool = False) -> Snapshot:
-    """Everything the viewer draws for configurations q (T, n_q), in batched calls."""
+    """Everything the viewer draws for configurations q (T, n_q), computed in blocks of :data:`CHUNK`
+    configurations (one compilation per robot serves a single configuration and a whole motion)."""
     q = robot.validate_q(np.atleast_2d(q))
-    frames = kinematics.frames(robot, q)
-    ee = Position("xyz")
-    j_p = np.asarray(manipulability.system_jacobian(robot, q, ee, normalized=normalized))
+    blocks = [_evaluate(robot, q[k : k + CHUNK], normalized) for k in range(0, len(q), CHUNK)]
+    return jax.tree.map(lambda *parts: np.concatenate(parts), *blocks)
+
+
+def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snapshot:
+    n = len(q)
+    padded = np.concatenate([q, np.broadcast_to(q[-1], (CHUNK - n, q.shape[1]))])
+    frames = kinematics.frames(robot, padded)
+    jbar = np.asarray(kinematics.reduced_jacobian(robot, padded))
+    j_p = np.asarray(kinematics.reduced_jacobian(robot, padded, Position("xyz")))
+    limits = robot.velocity_limits
+    if normalized:
+        j_p = j_p * np.asarray(limits)
     axes, directions = (np.asarray(a) for a in manipulability.ellipsoid(j_p))
-    analysis = manipulability.analyze(robot, q)
-    measures = {f"{s} (J̄)": np.asarray(analysis["system"][k]) for k, s in MEASURES.items()}
-    if analysis["system_normalized"] is not None:
-        measures.update(
-            {f"{s} (J̄_N)": np.asarray(analysis["system_normalized"][k]) for k, s in MEASURES.items()}
-        )
+    measures = {f"{s} (J̄)": v for s, v in _measures(jbar).items()}
+    if limits is not None:
+        measures.update({f"{s} (J̄_N)": v for s, v in _measures(jbar * np.asarray(limits)).items()})
+    report = redundancy.redundancy_report(robot)
+    d = kinematics.rank(np.asarray(kinematics.jacobian(robot, padded)), redundancy.RTOL)
+    d_bar = kinematics.rank(jbar, redundancy.RTOL)
     links = tuple((np.asarray(r), np.asarray(p)) for r, p in frames.links)
-    return Snapshot(
-        q,
+    snap = Snapshot(
+        padded,
         tuple(np.asarray(a) for a in frames.platform),
         links,
         links[0][1][:, -1],
         axes,
         directions,
-        np.asarray(kinematics.reduced_jacobian(robot, q)),
+        jbar,
         measures,
-        np.asarray(redundancy.is_velocity_singular(robot, q).singular),
-        np.asarray(redundancy.is_kinematic_singular(robot, q).singular),
+        d_bar < report.D_bar,
+        d < report.D,
     )
+    return jax.tree.map(lambda a: a[:n], snap)
+
+
+def _measures(j: np.ndarray) -> dict[str, np.ndarray]:
+    return {MEASURES[k]: np.asarray(v) for k, v in manipulability.measures(j).items()}
 
 
 def robot_of(motion: trajectories.Motion) -> MobileManipulator:
@@ -270,6 +279,9 @@ class Viewer:
         self._player: threading.Thread | None = None
         self._motion_gui: list = []
         self.server.scene.set_up_direction("+z")
+        # no shadows, no environment map: software WebGL (headless chromium, remote desktops) draws it in seconds
+        self.server.scene.configure_default_lights(cast_shadow=False)
+        self.server.scene.configure_environment_map(None)
         self._build_scene()
         self._aim_camera(np.zeros((1, 3)))
         self._build_panel()
@@ -420,7 +432,7 @@ class Viewer:
         extent = max(float(np.max(high - low)), 2.0 * self._reach)
         camera = self.server.initial_camera
         camera.look_at = centre
-        camera.position = centre + extent * np.array([1.3, -1.9, 1.2])
+        camera.position = centre + extent * np.array([0.7, -1.0, 0.65])
 
     def _arm_labels(self) -> list[str]:
         labels = [_node_name(a.name) for a in self.robot.arms]
