@@ -41,7 +41,7 @@ def view_command(
     from mobman.io import trajectories
 
     try:
-        from mobman.viz.viewer import Viewer, robot_of
+        from mobman.viz.viewer import Viewer, motions_of, robot_of
     except ImportError as exc:
         raise InputError(
             f"mobman view needs the viewer extra ({exc.name} is missing): pip install 'mobman[viewer]'"
@@ -57,6 +57,8 @@ def view_command(
     else:
         robot = load_robot(robot_name, params)
     configuration = None if q is None else parse_vector(q, "--q", robot.n_q)
+    if results is not None:
+        motions_of(robot, results)  # a results file of another robot: said before serving anything
     viewer = Viewer(robot, host=host, port=port, normalized=normalized)
     try:
         if results is not None:

@@ -71,6 +71,8 @@ class Snapshot:
     measures: dict[str, np.ndarray]
     vsc: np.ndarray
     ksc: np.ndarray
+    defined: np.ndarray
+    """False where J (so J̄, the measures and the flags) is undefined: the task is not differentiable there."""
 
     def at(self, k: int) -> "Snapshot":
         """The k-th configuration, as a batch of one."""
@@ -98,9 +100,12 @@ def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snap
     measures = {f"{s} (J̄)": v for s, v in _measures(jbar).items()}
     if limits is not None:
         measures.update({f"{s} (J̄_N)": v for s, v in _measures(jbar * np.asarray(limits)).items()})
+    jac = np.asarray(kinematics.jacobian(robot, padded))
+    # where the task is not differentiable (an angle at its branch point) J holds NaN: no rank, no flags
+    defined = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
     report = redundancy.redundancy_report(robot)
-    d = kinematics.rank(np.asarray(kinematics.jacobian(robot, padded)), redundancy.RTOL)
-    d_bar = kinematics.rank(jbar, redundancy.RTOL)
+    d = kinematics.rank(np.where(defined[:, None, None], jac, 0.0), redundancy.RTOL)
+    d_bar = kinematics.rank(np.where(defined[:, None, None], jbar, 0.0), redundancy.RTOL)
     links = tuple((np.asarray(r), np.asarray(p)) for r, p in frames.links)
     snap = Snapshot(
         padded,
@@ -111,8 +116,9 @@ def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snap
         directions,
         jbar,
         measures,
-        d_bar < report.D_bar,
-        d < report.D,
+        defined & (d_bar < report.D_bar),
+        defined & (d < report.D),
+        defined,
     )
     return jax.tree.map(lambda a: a[:n], snap)
 
@@ -139,6 +145,39 @@ def robot_of(motion: trajectories.Motion) -> MobileManipulator:
             f"results: {motion.robot_label} is not a built-in robot; give its description file as ROBOT"
         )
     return build(motion.robot_name, **dict(motion.parameters))
+
+
+def motions_of(robot: MobileManipulator, path: Path | str) -> list[trajectories.Motion]:
+    """The motions of ``robot`` saved in a results folder or file; an error naming the robot they are of when
+    none is."""
+    motions = trajectories.read(path)
+    mine = [m for m in motions if _made_by(robot, m)]
+    if not mine:
+        others = sorted({m.robot_label for m in motions})
+        raise InputError(
+            f"--results {path}: motions of {', '.join(others)}, not of {_label(robot)}; "
+            f"view them with `mobman view {path}`"
+        )
+    for m in mine:
+        if m.q.shape[1] != robot.n_q:
+            raise InputError(
+                f"--results {path}: motion {m.label!r} has {m.q.shape[1]} coordinates, {robot.name} {robot.n_q}"
+            )
+    return mine
+
+
+def _made_by(robot: MobileManipulator, motion: trajectories.Motion) -> bool:
+    if motion.factory or motion.robot_name in ROBOTS:
+        try:
+            return robot_of(motion) == robot
+        except InputError:
+            return False
+    return motion.describes(robot)
+
+
+def _label(robot: MobileManipulator) -> str:
+    params = ", ".join(f"{k}={v:.6g}" for k, v in robot.parameters)
+    return f"{robot.name} ({params})" if params else robot.name
 
 
 def _check_port_free(host: str, port: int) -> None:
@@ -244,7 +283,8 @@ class Viewer:
 
     ``normalized=True`` draws the ellipsoid of J̄_p · diag(η_max) (the robot needs velocity limits).
     :attr:`nodes` maps scene node names to their viser handles; :attr:`time_slider` is the time slider of a
-    loaded motion (None before :meth:`load_results`).
+    loaded motion (None before :meth:`load_results`); :attr:`measures_md`, :attr:`flags_html` and
+    :attr:`jbar_md` are the panel's measures, KSC / VSC flags and J̄; :attr:`snapshot` what is drawn now.
     """
 
     def __init__(
@@ -270,7 +310,7 @@ class Viewer:
         self.nodes: dict[str, viser.SceneNodeHandle] = {}
         self.time_slider: viser.GuiSliderHandle | None = None
         self.motions: list[trajectories.Motion] = []
-        self._snapshot: Snapshot | None = None
+        self.snapshot: Snapshot | None = None
         self._motion: Snapshot | None = None
         self._ellipsoid_factor: float | None = None
         self._syncing = False
@@ -308,19 +348,7 @@ class Viewer:
     def load_results(self, path: Path | str, motion: str | None = None) -> list[str]:
         """Load the motions saved with a run's results (a folder, its ``results.json`` or ``trajectories.json``)
         made by this robot; show the first (or the one labelled ``motion``). Returns the labels loaded."""
-        motions = trajectories.read(path)
-        mine = [m for m in motions if self._made_by_me(m)]
-        if not mine:
-            others = sorted({m.robot_label for m in motions})
-            raise InputError(
-                f"--results {path}: motions of {', '.join(others)}, not of {self._label()}; "
-                f"view them with `mobman view {path}`"
-            )
-        for m in mine:
-            if m.q.shape[1] != self.robot.n_q:
-                raise InputError(
-                    f"--results {path}: motion {m.label!r} has {m.q.shape[1]} coordinates, {self.robot.name} {self.robot.n_q}"
-                )
+        mine = motions_of(self.robot, path)
         labels = [m.label for m in mine]
         if motion is not None and motion not in labels:
             raise InputError(f"--motion {motion!r}: not in {path}; choose among: {', '.join(labels)}")
@@ -440,7 +468,7 @@ class Viewer:
 
     def _draw(self, snap: Snapshot) -> None:
         """Move every node to the poses of a one-configuration snapshot and refresh the panel."""
-        self._snapshot = snap
+        self.snapshot = snap
         nodes = self.nodes
         with self.server.atomic():
             r, p = snap.platform
@@ -460,25 +488,17 @@ class Viewer:
 
     def _draw_ellipsoid(self, snap: Snapshot) -> None:
         axes, directions = snap.axes[0], snap.directions[0].copy()
-        if self._ellipsoid_factor is None:
+        if self._ellipsoid_factor is None and np.isfinite(axes[0]):
             self._ellipsoid_factor = ELLIPSOID_SIZE / max(float(axes[0]), 1e-9)
-        if np.linalg.det(directions) < 0:
+        if np.isfinite(directions).all() and np.linalg.det(directions) < 0:
             directions[:, -1] *= -1.0
         node = self.nodes["/ellipsoid"]
         node.position, node.wxyz = snap.centre[0], _wxyz(directions)
-        node.scale = tuple(float(max(a * self._ellipsoid_factor, 1e-4)) for a in axes)
-
-    def _made_by_me(self, motion: trajectories.Motion) -> bool:
-        if motion.factory or motion.robot_name in ROBOTS:
-            try:
-                return robot_of(motion) == self.robot
-            except InputError:
-                return False
-        return motion.describes(self.robot)
-
-    def _label(self) -> str:
-        params = ", ".join(f"{k}={v:.6g}" for k, v in self.robot.parameters)
-        return f"{self.robot.name} ({params})" if params else self.robot.name
+        node.visible = bool(
+            self._ellipsoid_factor is not None and np.isfinite(axes).all() and np.isfinite(directions).all()
+        )
+        if node.visible:
+            node.scale = tuple(float(max(a * self._ellipsoid_factor, 1e-4)) for a in axes)
 
     # --- panel -----------------------------------------------------------------------------------------
 
@@ -494,9 +514,9 @@ class Viewer:
 
     def _build_panel(self) -> None:
         gui = self.server.gui
-        self._measures_md = gui.add_markdown("")
-        self._flags_html = gui.add_html("")
-        self._jbar_md = gui.add_markdown("")
+        self.measures_md = gui.add_markdown("")
+        self.flags_html = gui.add_html("")
+        self.jbar_md = gui.add_markdown("")
         lo, hi = self._slider_ranges()
         self._sliders = []
         with gui.add_folder("Configuration q"):
@@ -520,18 +540,24 @@ class Viewer:
 
     def _update_panel(self, snap: Snapshot) -> None:
         rows = "\n".join(f"| {name} | {float(v[0]):.4g} |" for name, v in snap.measures.items())
-        self._measures_md.content = f"**Measures**\n\n| measure | value |\n|---|---|\n{rows}"
+        self.measures_md.content = f"**Measures**\n\n| measure | value |\n|---|---|\n{rows}"
 
         def flag(name: str, singular: bool) -> str:
             color, text = ("#d32f2f", "singular") if singular else ("#2e7d32", "regular")
             return f'<span style="color:{color};font-weight:bold">{name}: {text}</span>'
 
-        self._flags_html.content = f'<div style="padding:0 0.75em">{flag("VSC", bool(snap.vsc[0]))} · {flag("KSC", bool(snap.ksc[0]))}</div>'
+        if not snap.defined[0]:
+            self.flags_html.content = (
+                '<div style="padding:0 0.75em;color:#ef6c00;font-weight:bold">J̄ undefined here: the task is '
+                "not differentiable at this configuration</div>"
+            )
+            return
+        self.flags_html.content = f'<div style="padding:0 0.75em">{flag("VSC", bool(snap.vsc[0]))} · {flag("KSC", bool(snap.ksc[0]))}</div>'
         jbar = snap.jbar[0]
         header = "| " + " | ".join(self.robot.control_names) + " |"
         rule = "|" + "---|" * jbar.shape[1]
         body = "\n".join("| " + " | ".join(f"{v:.3f}" for v in row) + " |" for row in jbar)
-        self._jbar_md.content = (
+        self.jbar_md.content = (
             f"**J̄ = J S** (rows {', '.join(self.robot.task.names)})\n\n{header}\n{rule}\n{body}"
         )
 
@@ -574,13 +600,15 @@ class Viewer:
                 if len(points) > 1
                 else np.stack([points, points], 1)
             )
-            self._keep(scene.add_line_segments(name, segments, colors=color, line_width=2.0))
+            self._keep(
+                scene.add_line_segments(name, segments, colors=color, thickness=2.0, thickness_units="screen")
+            )
         if self._plot is not None:
             self._plot.remove()
         plotted = {n: v for n, v in self._motion.measures.items() if n.endswith("(J̄)")}
         self._plotted = plotted
         top = max(1.0, float(np.nanmax(np.concatenate(list(plotted.values())))))
-        palette = ("#1f77b4", "#ff7f0e", "#2ca02c")
+        palette = ("#1f77b4", "#9467bd", "#2ca02c")  # no orange: the links' colour
         series = [viser.uplot.Series(label="t (s)")]
         series += [
             viser.uplot.Series(label=name, stroke=palette[i % len(palette)], width=1.5)
@@ -655,4 +683,4 @@ class Viewer:
             time.sleep(max(0.0, period - (time.monotonic() - start)))
 
 
-__all__ = ["Snapshot", "Viewer", "evaluate", "robot_of"]
+__all__ = ["Snapshot", "Viewer", "evaluate", "motions_of", "robot_of"]

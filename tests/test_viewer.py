@@ -1,0 +1,196 @@
+"""The viewer: its scene tree, poses and ellipsoid checked against closed forms, and the page in a real browser.
+
+The browser is Debian's chromium driven by Playwright (software WebGL); the server binds 127.0.0.1 on a free
+port and is stopped by the fixture. Screenshots go to ``$MOBMAN_ARTIFACTS`` (CI keeps them) or a temporary
+folder.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+from playwright.sync_api import sync_playwright
+
+from mobman.io import trajectories
+from mobman.model import robots
+from mobman.viz.viewer import Viewer
+
+CHROMIUM_ARGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+T = np.linspace(0.0, 2.0, 21)
+# bayle-rrp: q = (x, y, θ, q4, q5, q6); every coordinate moves, q5 passes exactly π/2 (arm vertical)
+Q = np.stack(
+    [
+        0.6 * T / 2,
+        0.2 * T / 2,
+        0.5 * T / 2,
+        np.pi * T / 2,
+        0.2 + (np.pi / 2 - 0.2) * T / 2,
+        0.3 + 0.3 * T / 2,
+    ],
+    axis=1,
+)
+
+
+def artifacts(tmp_path_factory) -> Path:
+    folder = os.environ.get("MOBMAN_ARTIFACTS")
+    path = Path(folder) if folder else tmp_path_factory.mktemp("artifacts")
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def robot_pixels(png: bytes) -> np.ndarray:
+    """Mask of the links' orange (255, 140, 26) under any shading: red well above blue, green in between."""
+    rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=float)
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    return (r > 90) & (r - b > 0.5 * r) & (g > 0.3 * r) & (g < 0.8 * r)
+
+
+def tool_position(q: np.ndarray) -> np.ndarray:
+    """Closed form of bayle-rrp's tool: the arm base at the platform point, q4 about z, q5 lifts, q6 slides."""
+    x, y, theta, q4, q5, q6 = q
+    heading = theta + q4
+    return np.array([x, y, 0.0]) + q6 * np.array(
+        [np.cos(heading) * np.cos(q5), np.sin(heading) * np.cos(q5), np.sin(q5)]
+    )
+
+
+def semi_axes(q: np.ndarray) -> np.ndarray:
+    """Singular values of J̄_p = (∂p/∂q) S(q) by central differences of the closed form (NumPy SVD)."""
+    h = 1e-6
+    jac = np.stack(
+        [(tool_position(q + h * e) - tool_position(q - h * e)) / (2 * h) for e in np.eye(6)], axis=1
+    )
+    s = np.zeros((6, 5))
+    s[0, 0], s[1, 0], s[2, 1] = np.cos(q[2]), np.sin(q[2]), 1.0
+    s[3:, 2:] = np.eye(3)
+    return np.linalg.svd(jac @ s, compute_uv=False)
+
+
+@pytest.fixture(scope="module")
+def viewer(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("motion")
+    robot = robots.bayle_rrp()
+    trajectories.write(folder, [trajectories.Motion.of("sweep", robot, T, Q)])
+    with Viewer(robot, port=0) as v:
+        v.load_results(folder)
+        yield v
+
+
+def test_scene_tree_holds_every_link_frame_and_path(viewer):
+    names = set(viewer.nodes)
+    for joint in ("q4", "q5", "q6"):
+        assert {f"/robot/rrp/{joint}", f"/robot/rrp/{joint}/link"} <= names
+    assert {
+        "/world",
+        "/robot/platform",
+        "/robot/rrp/tool",
+        "/ellipsoid",
+        "/paths/ee",
+        "/paths/platform",
+    } <= names
+    assert viewer.url.startswith("http://127.0.0.1:")
+
+
+def test_time_moves_the_robot_and_resizes_the_ellipsoid_as_the_closed_form_says(viewer):
+    scales = []
+    for k in (0, 10, 20):
+        viewer.set_time(T[k])
+        np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, tool_position(Q[k]), atol=1e-9)
+        np.testing.assert_allclose(
+            viewer.nodes["/robot/platform"].position, [Q[k, 0], Q[k, 1], 0.0], atol=1e-12
+        )
+        scales.append(np.sort(np.asarray(viewer.nodes["/ellipsoid"].scale))[::-1])
+    # one drawing factor for the whole session: the drawn axes are proportional to the singular values
+    for k, scale in zip((0, 10, 20), scales):
+        np.testing.assert_allclose(
+            scale / scales[0][0], semi_axes(Q[k]) / semi_axes(Q[0])[0], rtol=1e-6, atol=1e-3
+        )
+    assert abs(scales[2][0] - scales[0][0]) > 0.01 * scales[0][0]
+
+
+def jacobians(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """J and J̄ = J S of bayle-rrp's task (tool position, heading θ + q4, elevation asin(sin q5)), by central
+    differences."""
+
+    def task(q):
+        return np.concatenate([tool_position(q), [q[2] + q[3], np.arcsin(np.sin(q[4]))]])
+
+    h = 1e-6
+    jac = np.stack([(task(q + h * e) - task(q - h * e)) / (2 * h) for e in np.eye(6)], axis=1)
+    s = np.zeros((6, 5))
+    s[0, 0], s[1, 0], s[2, 1] = np.cos(q[2]), np.sin(q[2]), 1.0
+    s[3:, 2:] = np.eye(3)
+    return jac, jac @ s
+
+
+def test_configurations_update_jbar_and_the_singular_flags(viewer):
+    rng = np.random.default_rng(0)
+    generic = rng.uniform(-np.pi, np.pi, (16, 6))
+    generic[:, 5] = rng.uniform(0.1, 1.0, 16)
+    d_max = max(np.linalg.matrix_rank(jacobians(q)[0], tol=1e-6) for q in generic)
+    d_bar_max = max(np.linalg.matrix_rank(jacobians(q)[1], tol=1e-6) for q in generic)
+    for q in ([0.0, 0.0, 0.0, 0.3, 0.4, 0.0], [1.0, -1.0, np.pi, -0.3, 0.4, 0.5], generic[0]):
+        q = np.asarray(q)
+        viewer.show(q)
+        jac, jbar = jacobians(q)
+        np.testing.assert_allclose(viewer.snapshot.jbar[0], jbar, atol=1e-6)
+        vsc = np.linalg.matrix_rank(jbar, tol=1e-6) < d_bar_max
+        ksc = np.linalg.matrix_rank(jac, tol=1e-6) < d_max
+        html = viewer.flags_html.content
+        assert ("VSC: singular" in html) == vsc and ("KSC: singular" in html) == ksc
+        w = viewer.snapshot.measures["w (J̄)"][0]
+        assert w == pytest.approx(np.sqrt(max(np.linalg.det(jbar @ jbar.T), 0.0)), abs=1e-6)
+        assert f"| w (J̄) | {w:.4g} |" in viewer.measures_md.content
+        np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, tool_position(q), atol=1e-9)
+    # elevation = asin(sin q5) has a kink at q5 = π/2: J̄ is undefined there, and the panel says so
+    viewer.show(np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.5]))
+    assert not viewer.snapshot.defined[0] and "undefined" in viewer.flags_html.content
+    np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, [0.0, 0.0, 0.5], atol=1e-12)
+
+
+def test_browser_connects_and_the_time_slider_moves_the_robot_pixels(viewer, tmp_path_factory):
+    out = artifacts(tmp_path_factory)
+    viewer.set_time(0.0)
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=shutil.which("chromium"), args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1100, "height": 750})
+            page.goto(viewer.url)
+            page.wait_for_selector("canvas")
+            viewer.wait_for_client(timeout=30)
+            assert page.get_by_text("mobman: bayle-rrp").count() >= 1
+            before = _settled(page)
+            pose = viewer.nodes["/robot/rrp/q6"].position.copy()
+            page.get_by_role("slider").first.focus()  # the time slider heads the panel
+            page.keyboard.press("End")
+            deadline = time.monotonic() + 20
+            while viewer.time_slider.value < T[-1] and time.monotonic() < deadline:
+                time.sleep(0.05)
+            assert viewer.time_slider.value == pytest.approx(T[-1])
+            assert np.linalg.norm(viewer.nodes["/robot/rrp/q6"].position - pose) > 0.1
+            after = _settled(page)
+        finally:
+            browser.close()
+    (out / "viewer_bayle-rrp_start.png").write_bytes(before)
+    (out / "viewer_bayle-rrp_end.png").write_bytes(after)
+    first, last = robot_pixels(before), robot_pixels(after)
+    assert first.sum() > 200 and last.sum() > 200
+    assert (first ^ last).sum() > 200
+
+
+def _settled(page) -> bytes:
+    previous = page.screenshot()
+    for _ in range(40):
+        time.sleep(0.3)
+        shot = page.screenshot()
+        if shot == previous:
+            return shot
+        previous = shot
+    return shot
