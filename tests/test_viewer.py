@@ -1,21 +1,16 @@
 """The viewer: its scene tree, poses and ellipsoid checked against closed forms, and the page in a real browser.
 
 The browser is Debian's chromium driven by Playwright (software WebGL); the server binds 127.0.0.1 on a free
-port and is stopped by the fixture. Screenshots go to ``$MOBMAN_ARTIFACTS`` (CI keeps them) or a temporary
-folder.
+port and is stopped by the fixture. Screenshots go to the ``artifacts`` folder (conftest.py).
 """
 
 from __future__ import annotations
 
-import io
-import os
 import shutil
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
-from PIL import Image
 from playwright.sync_api import sync_playwright
 
 from mobman.io import trajectories
@@ -36,20 +31,6 @@ Q = np.stack(
     ],
     axis=1,
 )
-
-
-def artifacts(tmp_path_factory) -> Path:
-    folder = os.environ.get("MOBMAN_ARTIFACTS")
-    path = Path(folder) if folder else tmp_path_factory.mktemp("artifacts")
-    path.mkdir(parents=True, exist_ok=True)
-    return path
-
-
-def robot_pixels(png: bytes) -> np.ndarray:
-    """Mask of the links' orange (255, 140, 26) under any shading: red well above blue, green in between."""
-    rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=float)
-    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
-    return (r > 90) & (r - b > 0.5 * r) & (g > 0.3 * r) & (g < 0.8 * r)
 
 
 def tool_position(q: np.ndarray) -> np.ndarray:
@@ -155,8 +136,8 @@ def test_configurations_update_jbar_and_the_singular_flags(viewer):
     np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, [0.0, 0.0, 0.5], atol=1e-12)
 
 
-def test_browser_connects_and_the_time_slider_moves_the_robot_pixels(viewer, tmp_path_factory):
-    out = artifacts(tmp_path_factory)
+def test_browser_connects_and_the_time_slider_moves_the_robot_pixels(viewer, artifacts, robot_pixels):
+    out = artifacts
     viewer.set_time(0.0)
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=shutil.which("chromium"), args=CHROMIUM_ARGS)

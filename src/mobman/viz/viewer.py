@@ -49,8 +49,9 @@ EE_PATH_COLOR = (20, 160, 60)
 PLATFORM_PATH_COLOR = (150, 60, 200)
 MEASURES = {"yoshikawa": "w", "inverse_condition": "w2", "eccentricity": "w5"}
 """The measures of the panel, by their symbols in Nait-Chabane et al. (2006), eq. 17–19."""
-CHUNK = 128
-"""Configurations per compiled block."""
+CHUNK = 64
+"""Configurations per compiled block (as many as :func:`mobman.redundancy.redundancy_report` samples: the
+same compiled Jacobians serve both)."""
 ELLIPSOID_SIZE = 0.35
 """Largest semi-axis drawn (m) for the first configuration shown; the factor then stays fixed."""
 
