@@ -6,6 +6,7 @@ port and is stopped by the fixture. Screenshots go to the ``artifacts`` folder (
 
 from __future__ import annotations
 
+import dataclasses
 import shutil
 import time
 
@@ -15,6 +16,7 @@ from playwright.sync_api import sync_playwright
 
 from mobman.io import trajectories
 from mobman.model import robots
+from mobman.model.visual import Visual
 from mobman.viz.viewer import Viewer
 
 CHROMIUM_ARGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
@@ -127,13 +129,46 @@ def test_configurations_update_jbar_and_the_singular_flags(viewer):
         html = viewer.flags_html.content
         assert ("VSC: singular" in html) == vsc and ("KSC: singular" in html) == ksc
         w = viewer.snapshot.measures["w (J̄)"][0]
-        assert w == pytest.approx(np.sqrt(max(np.linalg.det(jbar @ jbar.T), 0.0)), abs=1e-6)
+        # D̄ < m = 5 for this task: w is the product of the D̄ largest singular values (the admissible subspace)
+        assert w == pytest.approx(np.prod(np.linalg.svd(jbar, compute_uv=False)[:d_bar_max]), abs=1e-6)
         assert f"| w (J̄) | {w:.4g} |" in viewer.measures_md.content
         np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, tool_position(q), atol=1e-9)
     # elevation = asin(sin q5) has a kink at q5 = π/2: J̄ is undefined there, and the panel says so
     viewer.show(np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.5]))
     assert not viewer.snapshot.defined[0] and "undefined" in viewer.flags_html.content
     np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, [0.0, 0.0, 0.5], atol=1e-12)
+
+
+def test_visual_shapes_replace_the_generated_links(tmp_path):
+    """A robot with visuals (as a URDF gives them): a box and an STL mesh on joint q4, a platform cylinder."""
+    import trimesh
+
+    mesh_file = tmp_path / "link.stl"
+    trimesh.creation.box(extents=(0.2, 0.2, 0.2)).export(mesh_file)
+    shift = np.eye(4)
+    shift[:3, 3] = (0.1, 0.0, 0.05)
+    box = Visual("box", tuple(shift.ravel()), (0.4, 0.2, 0.1), rgba=(0.2, 0.4, 0.8, 1.0), name="shell")
+    stl = Visual("mesh", filename=str(mesh_file), scale=(0.5, 0.5, 0.5), name="motor")
+    plain = robots.bayle_rrp()
+    arm = plain.arms[0]
+    joints = (dataclasses.replace(arm.joints[0], visuals=(box, stl)),) + arm.joints[1:]
+    robot = dataclasses.replace(
+        plain,
+        arms=(dataclasses.replace(arm, joints=joints),),
+        platform_visuals=(Visual("cylinder", size=(0.3, 0.1), name="base"),),
+    )
+    with Viewer(robot, port=0) as v:
+        names = set(v.nodes)
+        assert {"/robot/rrp/q4/shell", "/robot/rrp/q4/motor", "/robot/platform/base"} <= names
+        assert "/robot/rrp/q4/link" not in names and "/robot/rrp/q5/link" in names
+        assert not any(n.startswith("/robot/platform/wheel") for n in names)
+        corners = np.array([[x, y, z] for x in (-0.1, 0.3) for y in (-0.1, 0.1) for z in (0.0, 0.1)])
+        drawn = np.asarray(v.nodes["/robot/rrp/q4/shell"].vertices)
+        np.testing.assert_allclose(np.unique(drawn.round(6), axis=0), corners, atol=1e-6)
+        np.testing.assert_allclose(
+            np.abs(np.asarray(v.nodes["/robot/rrp/q4/motor"].vertices)).max(), 0.05, atol=1e-6
+        )
+        assert tuple(v.nodes["/robot/rrp/q4/shell"].color) == (51, 102, 204)
 
 
 def test_browser_connects_and_the_time_slider_moves_the_robot_pixels(viewer, artifacts, robot_pixels):

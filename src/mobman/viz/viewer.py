@@ -52,8 +52,9 @@ MEASURES = {"yoshikawa": "w", "inverse_condition": "w2", "eccentricity": "w5"}
 CHUNK = 64
 """Configurations per compiled block (as many as :func:`mobman.redundancy.redundancy_report` samples: the
 same compiled Jacobians serve both)."""
-ELLIPSOID_SIZE = 0.35
-"""Largest semi-axis drawn (m) for the first configuration shown; the factor then stays fixed."""
+ELLIPSOID_SIZE = 0.4
+"""Largest semi-axis drawn for the first configuration shown, as a fraction of the robot's reach; the drawing
+factor then stays fixed."""
 
 
 @jax.tree_util.register_dataclass
@@ -98,13 +99,15 @@ def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snap
     if normalized:
         j_p = j_p * np.asarray(limits)
     axes, directions = (np.asarray(a) for a in manipulability.ellipsoid(j_p))
-    measures = {f"{s} (J̄)": v for s, v in _measures(jbar).items()}
+    report = redundancy.redundancy_report(robot)
+    # below full row rank everywhere (D̄ < m), the measures of the admissible subspace: the D̄ largest σ
+    rank = report.D_bar if report.D_bar < jbar.shape[-2] else None
+    measures = {f"{s} (J̄)": v for s, v in _measures(jbar, rank).items()}
     if limits is not None:
-        measures.update({f"{s} (J̄_N)": v for s, v in _measures(jbar * np.asarray(limits)).items()})
+        measures.update({f"{s} (J̄_N)": v for s, v in _measures(jbar * np.asarray(limits), rank).items()})
     jac = np.asarray(kinematics.jacobian(robot, padded))
     # where the task is not differentiable (an angle at its branch point) J holds NaN: no rank, no flags
     defined = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
-    report = redundancy.redundancy_report(robot)
     d = kinematics.rank(np.where(defined[:, None, None], jac, 0.0), redundancy.RTOL)
     d_bar = kinematics.rank(np.where(defined[:, None, None], jbar, 0.0), redundancy.RTOL)
     links = tuple((np.asarray(r), np.asarray(p)) for r, p in frames.links)
@@ -124,8 +127,8 @@ def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snap
     return jax.tree.map(lambda a: a[:n], snap)
 
 
-def _measures(j: np.ndarray) -> dict[str, np.ndarray]:
-    return {MEASURES[k]: np.asarray(v) for k, v in manipulability.measures(j).items()}
+def _measures(j: np.ndarray, rank: int | None) -> dict[str, np.ndarray]:
+    return {MEASURES[k]: np.asarray(v) for k, v in manipulability.measures(j, rank).items()}
 
 
 def robot_of(motion: trajectories.Motion) -> MobileManipulator:
@@ -323,6 +326,9 @@ class Viewer:
         # no shadows, no environment map: software WebGL (headless chromium, remote desktops) draws it in seconds
         self.server.scene.configure_default_lights(cast_shadow=False)
         self.server.scene.configure_environment_map(None)
+        self.server.scene.add_light_hemisphere(
+            "/light", sky_color=(255, 255, 255), ground_color=(90, 90, 100)
+        )
         self._build_scene()
         self._aim_camera(np.zeros((1, 3)))
         self._build_panel()
@@ -490,7 +496,7 @@ class Viewer:
     def _draw_ellipsoid(self, snap: Snapshot) -> None:
         axes, directions = snap.axes[0], snap.directions[0].copy()
         if self._ellipsoid_factor is None and np.isfinite(axes[0]):
-            self._ellipsoid_factor = ELLIPSOID_SIZE / max(float(axes[0]), 1e-9)
+            self._ellipsoid_factor = ELLIPSOID_SIZE * self._reach / max(float(axes[0]), 1e-9)
         if np.isfinite(directions).all() and np.linalg.det(directions) < 0:
             directions[:, -1] *= -1.0
         node = self.nodes["/ellipsoid"]
@@ -540,8 +546,13 @@ class Viewer:
             self._syncing = False
 
     def _update_panel(self, snap: Snapshot) -> None:
-        rows = "\n".join(f"| {name} | {float(v[0]):.4g} |" for name, v in snap.measures.items())
-        self.measures_md.content = f"**Measures**\n\n| measure | value |\n|---|---|\n{rows}"
+        rows = "\n".join(
+            f"| {name} | {float(v[0]):.4g} |" if snap.defined[0] else f"| {name} | undefined |"
+            for name, v in snap.measures.items()
+        )
+        d_bar = redundancy.redundancy_report(self.robot).D_bar
+        rank = f" (of the {d_bar} largest σ: D̄ = {d_bar} < m)" if d_bar < self.robot.task.dim else ""
+        self.measures_md.content = f"**Measures**{rank}\n\n| measure | value |\n|---|---|\n{rows}"
 
         def flag(name: str, singular: bool) -> str:
             color, text = ("#d32f2f", "singular") if singular else ("#2e7d32", "regular")
