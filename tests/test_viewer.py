@@ -210,3 +210,28 @@ def _settled(page) -> bytes:
             return shot
         previous = shot
     return shot
+
+
+@pytest.mark.slow  # compiles the reduced dynamics of a two-arm robot for a block of configurations
+def test_dynamic_ellipsoid_is_drawn_where_a_dynamic_model_exists():
+    """yamamoto-dual-arm with its dynamic model: the red ellipsoid's axes follow the accelerations reachable at
+    rest (Yamamoto & Yun eq. 27–38, computed by mobman.dynamics and checked there against Pinocchio)."""
+    from mobman.dynamics import yamamoto_model
+    from mobman.dynamics.ellipsoids import dynamic_ellipsoid
+    from mobman.experiments.yamamoto1999 import torque_limits
+    from mobman.model.task import Position
+
+    model = yamamoto_model()
+    robot, limits = model.robot, torque_limits(model.robot)
+    qs = np.array([[0, 0, 0, 0.3, 0.8, 1.1, -0.3, -0.8, -1.1], [0, 0, 0.5, 0.1, 1.5, -0.4, -0.2, -1.2, 0.9]])
+    with Viewer(robot, port=0, dynamics=(model, limits)) as v:
+        drawn = []
+        for q in qs:
+            v.show(q)
+            drawn.append(np.asarray(v.nodes["/ellipsoid_dynamic"].scale))
+            np.testing.assert_allclose(
+                v.nodes["/ellipsoid_dynamic"].position, v.nodes["/robot/arm1/tool"].position
+            )
+    expected = dynamic_ellipsoid(model, qs, limits, task=Position("xyz")).axes
+    np.testing.assert_allclose(drawn[1] / drawn[0][0], expected[1] / expected[0][0], rtol=1e-6, atol=1e-3)
+    assert abs(drawn[1][0] - drawn[0][0]) > 0.01 * drawn[0][0]

@@ -32,6 +32,9 @@ def view_command(
     normalized: bool = typer.Option(
         False, "--normalized", help="Ellipsoid of J̄ · diag(η_max) (needs velocity limits)."
     ),
+    dynamic: bool = typer.Option(
+        False, "--dynamic", help="Also the dynamic ellipsoid (robots with a built-in dynamic model)."
+    ),
     screenshot_path: Path | None = typer.Option(
         None, "--screenshot", help="Render one PNG headless (chromium) into this file and exit."
     ),
@@ -59,7 +62,12 @@ def view_command(
     configuration = None if q is None else parse_vector(q, "--q", robot.n_q)
     if results is not None:
         motions_of(robot, results)  # a results file of another robot: said before serving anything
-    viewer = Viewer(robot, host=host, port=port, normalized=normalized)
+    dynamics = None
+    if dynamic:
+        from mobman.cli.ellipsoid import dynamic_model
+
+        dynamics = dynamic_model(robot.name, robot)
+    viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
     try:
         if results is not None:
             viewer.load_results(results, motion)

@@ -31,6 +31,7 @@ import viser.transforms as vtf
 import viser.uplot
 
 from mobman import kinematics, manipulability, redundancy
+from mobman.dynamics import DynamicModel, ellipsoids
 from mobman.errors import InputError
 from mobman.io import trajectories
 from mobman.model.platform import CarLike, DifferentialDrive
@@ -45,10 +46,13 @@ JOINT_COLOR = (60, 60, 70)
 BODY_COLOR = (96, 112, 140)
 WHEEL_COLOR = (35, 35, 40)
 ELLIPSOID_COLOR = (60, 130, 230)
+DYNAMIC_COLOR = (220, 60, 60)
 EE_PATH_COLOR = (20, 160, 60)
 PLATFORM_PATH_COLOR = (150, 60, 200)
 MEASURES = {"yoshikawa": "w", "inverse_condition": "w2", "eccentricity": "w5"}
 """The measures of the panel, by their symbols in Nait-Chabane et al. (2006), eq. 17–19."""
+Dynamics = tuple[DynamicModel, np.ndarray]
+"""A dynamic model and its actuator torque limits (N·m: wheels, then joints)."""
 CHUNK = 64
 """Configurations per compiled block (as many as :func:`mobman.redundancy.redundancy_report` samples: the
 same compiled Jacobians serve both)."""
@@ -75,21 +79,30 @@ class Snapshot:
     ksc: np.ndarray
     defined: np.ndarray
     """False where J (so J̄, the measures and the flags) is undefined: the task is not differentiable there."""
+    dynamic: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    """The dynamic ellipsoid of the tool's accelerations at rest (centre, semi-axes, directions), when drawn."""
 
     def at(self, k: int) -> "Snapshot":
         """The k-th configuration, as a batch of one."""
         return jax.tree.map(lambda a: a[k : k + 1], self)
 
 
-def evaluate(robot: MobileManipulator, q, normalized: bool = False) -> Snapshot:
+def evaluate(
+    robot: MobileManipulator, q, normalized: bool = False, dynamics: Dynamics | None = None
+) -> Snapshot:
     """Everything the viewer draws for configurations q (T, n_q), computed in blocks of :data:`CHUNK`
-    configurations (one compilation per robot serves a single configuration and a whole motion)."""
+    configurations (one compilation per robot serves a single configuration and a whole motion).
+
+    ``dynamics`` = (DynamicModel, torque limits): also the dynamic ellipsoid of the tool position's
+    accelerations at rest (Yamamoto & Yun eq. 27–38, :func:`mobman.dynamics.ellipsoids.dynamic_ellipsoid`)."""
     q = robot.validate_q(np.atleast_2d(q))
-    blocks = [_evaluate(robot, q[k : k + CHUNK], normalized) for k in range(0, len(q), CHUNK)]
+    blocks = [_evaluate(robot, q[k : k + CHUNK], normalized, dynamics) for k in range(0, len(q), CHUNK)]
     return jax.tree.map(lambda *parts: np.concatenate(parts), *blocks)
 
 
-def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snapshot:
+def _evaluate(
+    robot: MobileManipulator, q: np.ndarray, normalized: bool, dynamics: Dynamics | None
+) -> Snapshot:
     n = len(q)
     padded = np.concatenate([q, np.broadcast_to(q[-1], (CHUNK - n, q.shape[1]))])
     frames = kinematics.frames(robot, padded)
@@ -111,6 +124,11 @@ def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snap
     d = kinematics.rank(np.where(defined[:, None, None], jac, 0.0), redundancy.RTOL)
     d_bar = kinematics.rank(np.where(defined[:, None, None], jbar, 0.0), redundancy.RTOL)
     links = tuple((np.asarray(r), np.asarray(p)) for r, p in frames.links)
+    dynamic = None
+    if dynamics is not None:
+        model, torque_limits = dynamics
+        e = ellipsoids.dynamic_ellipsoid(model, padded, torque_limits, task=Position("xyz"))
+        dynamic = (np.asarray(e.center), e.axes, e.directions)
     snap = Snapshot(
         padded,
         tuple(np.asarray(a) for a in frames.platform),
@@ -123,6 +141,7 @@ def _evaluate(robot: MobileManipulator, q: np.ndarray, normalized: bool) -> Snap
         defined & (d_bar < report.D_bar),
         defined & (d < report.D),
         defined,
+        dynamic,
     )
     return jax.tree.map(lambda a: a[:n], snap)
 
@@ -298,12 +317,14 @@ class Viewer:
         port: int = 8080,
         *,
         normalized: bool = False,
+        dynamics: Dynamics | None = None,
     ) -> None:
         if normalized and robot.velocity_limits is None:
             manipulability.system_jacobian(robot, np.zeros(robot.n_q), normalized=True)  # raises ModelError
         _check_port_free(host, port)
         self.robot = robot
         self.normalized = normalized
+        self.dynamics = dynamics
         self.server = viser.ViserServer(host=host, port=port, label=f"mobman: {robot.name}", verbose=False)
         if port and self.server.get_port() != port:
             self.server.stop()
@@ -316,7 +337,7 @@ class Viewer:
         self.motions: list[trajectories.Motion] = []
         self.snapshot: Snapshot | None = None
         self._motion: Snapshot | None = None
-        self._ellipsoid_factor: float | None = None
+        self._ellipsoid_factor: dict[str, float] = {}
         self._syncing = False
         self._playing = threading.Event()
         self._closed = threading.Event()
@@ -348,7 +369,7 @@ class Viewer:
         q = np.asarray(q, dtype=float)
         if q.ndim != 1:
             raise InputError(f"{self.robot.name}: show() takes one configuration of {self.robot.n_q} values")
-        snap = evaluate(self.robot, q, self.normalized)
+        snap = evaluate(self.robot, q, self.normalized, self.dynamics)
         self._draw(snap)
         self._set_sliders(snap.q[0])
 
@@ -449,16 +470,13 @@ class Viewer:
             self._arm_nodes.append(names)
             self._generated.append(generated)
         sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
-        self._keep(
-            scene.add_mesh_simple(
-                "/ellipsoid",
-                sphere.vertices,
-                sphere.faces,
-                color=ELLIPSOID_COLOR,
-                opacity=0.35,
-                cast_shadow=False,
+        shown = ("/ellipsoid", ELLIPSOID_COLOR), ("/ellipsoid_dynamic", DYNAMIC_COLOR)
+        for name, color in shown[: 2 if self.dynamics is not None else 1]:
+            self._keep(
+                scene.add_mesh_simple(
+                    name, sphere.vertices, sphere.faces, color=color, opacity=0.35, cast_shadow=False
+                )
             )
-        )
 
     def _aim_camera(self, points: np.ndarray) -> None:
         """Point the initial camera at the middle of ``points`` and the robot, from far enough to see them."""
@@ -494,18 +512,35 @@ class Viewer:
         self._update_panel(snap)
 
     def _draw_ellipsoid(self, snap: Snapshot) -> None:
-        axes, directions = snap.axes[0], snap.directions[0].copy()
-        if self._ellipsoid_factor is None and np.isfinite(axes[0]):
-            self._ellipsoid_factor = ELLIPSOID_SIZE * self._reach / max(float(axes[0]), 1e-9)
-        if np.isfinite(directions).all() and np.linalg.det(directions) < 0:
+        self._draw_one("/ellipsoid", snap.centre[0], snap.axes[0], snap.directions[0])
+        if snap.dynamic is not None:
+            centre, axes, directions = snap.dynamic
+            self._draw_one("/ellipsoid_dynamic", snap.centre[0], axes[0], directions[0], centre[0])
+
+    def _draw_one(
+        self,
+        name: str,
+        at: np.ndarray,
+        axes: np.ndarray,
+        directions: np.ndarray,
+        offset: np.ndarray | None = None,
+    ) -> None:
+        """An ellipsoid node at ``at`` (+ its own centre ``offset``, in the drawing's scale): one drawing factor
+        per ellipsoid for the whole session, set by the first configuration shown."""
+        directions = directions.copy()
+        finite = bool(np.isfinite(axes).all() and np.isfinite(directions).all())
+        if name not in self._ellipsoid_factor and finite:
+            self._ellipsoid_factor[name] = ELLIPSOID_SIZE * self._reach / max(float(axes[0]), 1e-9)
+        node = self.nodes[name]
+        node.visible = finite and name in self._ellipsoid_factor
+        if not node.visible:
+            return
+        factor = self._ellipsoid_factor[name]
+        if np.linalg.det(directions) < 0:
             directions[:, -1] *= -1.0
-        node = self.nodes["/ellipsoid"]
-        node.position, node.wxyz = snap.centre[0], _wxyz(directions)
-        node.visible = bool(
-            self._ellipsoid_factor is not None and np.isfinite(axes).all() and np.isfinite(directions).all()
-        )
-        if node.visible:
-            node.scale = tuple(float(max(a * self._ellipsoid_factor, 1e-4)) for a in axes)
+        node.position = at if offset is None else at + factor * offset
+        node.wxyz = _wxyz(directions)
+        node.scale = tuple(float(max(a * factor, 1e-4)) for a in axes)
 
     # --- panel -----------------------------------------------------------------------------------------
 
@@ -597,7 +632,7 @@ class Viewer:
     def _select(self, index: int) -> None:
         motion = self.motions[index]
         self._playing.clear()
-        self._motion = evaluate(self.robot, motion.q, self.normalized)
+        self._motion = evaluate(self.robot, motion.q, self.normalized, self.dynamics)
         self._times = motion.t
         scene = self.server.scene
         ee = self._motion.centre
