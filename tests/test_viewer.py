@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from playwright.sync_api import sync_playwright
 
+from mobman.errors import InputError
 from mobman.io import trajectories
 from mobman.model import robots
 from mobman.model.visual import Visual
@@ -186,12 +187,23 @@ def test_browser_connects_and_the_time_slider_moves_the_robot_pixels(viewer, art
             pose = viewer.nodes["/robot/rrp/q6"].position.copy()
             page.get_by_role("slider").first.focus()  # the time slider heads the panel
             page.keyboard.press("End")
-            deadline = time.monotonic() + 20
-            while viewer.time_slider.value < T[-1] and time.monotonic() < deadline:
+            deadline = time.monotonic() + 20  # the server runs the slider's callback in its own thread
+            while time.monotonic() < deadline and not np.allclose(
+                viewer.nodes["/robot/rrp/tool"].position, tool_position(Q[-1]), atol=1e-9
+            ):
                 time.sleep(0.05)
             assert viewer.time_slider.value == pytest.approx(T[-1])
+            np.testing.assert_allclose(
+                viewer.nodes["/robot/rrp/tool"].position, tool_position(Q[-1]), atol=1e-9
+            )
             assert np.linalg.norm(viewer.nodes["/robot/rrp/q6"].position - pose) > 0.1
             after = _settled(page)
+            page.get_by_role("button", name="play / pause").click()  # at the end: plays again from the start
+            deadline = time.monotonic() + 20
+            while not 0 < viewer.time_slider.value < T[-1] and time.monotonic() < deadline:
+                time.sleep(0.05)
+            assert 0 < viewer.time_slider.value < T[-1]
+            page.get_by_role("button", name="play / pause").click()
         finally:
             browser.close()
     (out / "viewer_bayle-rrp_start.png").write_bytes(before)
@@ -210,6 +222,22 @@ def _settled(page) -> bytes:
             return shot
         previous = shot
     return shot
+
+
+def test_several_motions_one_chosen_by_label(tmp_path):
+    robot = robots.bayle_rrp()
+    still = np.broadcast_to(Q[5], Q.shape)
+    trajectories.write(
+        tmp_path,
+        [trajectories.Motion.of("sweep", robot, T, Q), trajectories.Motion.of("still", robot, T, still)],
+    )
+    (tmp_path / "results.json").write_text("{}")  # a run's results: the motions are read beside them
+    with Viewer(robot, port=0) as v:
+        assert v.load_results(tmp_path / "results.json", motion="still") == ["sweep", "still"]
+        v.set_time(T[-1])
+        np.testing.assert_allclose(v.nodes["/robot/rrp/tool"].position, tool_position(Q[5]), atol=1e-9)
+        with pytest.raises(InputError, match="--motion 'jump': not in"):
+            v.load_results(tmp_path, motion="jump")
 
 
 @pytest.mark.slow  # compiles the reduced dynamics of a two-arm robot for a block of configurations

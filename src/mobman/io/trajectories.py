@@ -87,9 +87,9 @@ def write(folder: Path | str, motions: Sequence[Motion]) -> Path:
 def locate(path: Path | str) -> Path:
     """The trajectories file of a results folder, of a ``results.json`` (the file beside it), or the file itself."""
     path = Path(path)
-    candidate = path / FILENAME if path.is_dir() else path
-    if path.is_file() and path.name != FILENAME:
-        candidate = path.with_name(FILENAME)
+    if not path.exists():
+        raise InputError(f"--results {path}: no such file or folder")
+    candidate = path / FILENAME if path.is_dir() else path.with_name(FILENAME)
     if not candidate.is_file():
         raise InputError(
             f"--results {path}: no {FILENAME} there (written by mobman simulate --out, mobman plan --out "
