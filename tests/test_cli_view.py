@@ -69,3 +69,21 @@ def test_screenshot_of_a_paper_robot(artifacts, robot_pixels, capsys):
     assert f"screenshot: {png}" in capsys.readouterr().out
     assert Image.open(png).size == (1280, 800)
     assert robot_pixels(png.read_bytes()).sum() > 300  # the links are drawn
+
+
+def test_serves_on_loopback_and_prints_its_url(monkeypatch, capsys):
+    import urllib.request
+
+    import mobman.cli.view as view
+
+    seen = []
+
+    def stop(_seconds):  # instead of waiting for Ctrl-C: fetch the page, then interrupt
+        url = capsys.readouterr().out.split(" at ")[1].split()[0]
+        seen.append((url, urllib.request.urlopen(url, timeout=10).status))
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(view.time, "sleep", stop)
+    main(["view", "bayle-rrp", "--port", "0"])
+    ((url, status),) = seen
+    assert url.startswith("http://127.0.0.1:") and status == 200
