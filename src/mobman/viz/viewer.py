@@ -17,6 +17,7 @@ from its dimensions. Importing this module needs the ``viewer`` extra (viser, tr
 
 from __future__ import annotations
 
+import importlib
 import socket
 import threading
 import time
@@ -156,8 +157,6 @@ def robot_of(motion: trajectories.Motion) -> MobileManipulator:
         module, _, function = motion.factory.partition(":")
         if not module.startswith("mobman."):
             raise InputError(f"results: robot builder {motion.factory!r} is not part of mobman")
-        import importlib
-
         try:
             robot = getattr(importlib.import_module(module), function)()
         except (ImportError, AttributeError):
@@ -185,6 +184,11 @@ def motions_of(robot: MobileManipulator, path: Path | str) -> list[trajectories.
         if m.q.shape[1] != robot.n_q:
             raise InputError(
                 f"--results {path}: motion {m.label!r} has {m.q.shape[1]} coordinates, {robot.name} {robot.n_q}"
+            )
+        bad = ~np.isfinite(m.q).all(axis=1)
+        if bad.any():
+            raise InputError(
+                f"--results {path}: motion {m.label!r} has non-finite configurations from t = {m.t[bad][0]:g} s"
             )
     return mine
 
@@ -676,6 +680,10 @@ class Viewer:
             order=-1,
         )
         self._motion_gui.append(self._plot)
+        for coordinate in (0, 1):  # the platform's x and y sliders cover the motion
+            values, q_slider = motion.q[:, coordinate], self._sliders[coordinate]
+            q_slider.min = min(q_slider.min, float(np.floor(values.min())) - 1.0)
+            q_slider.max = max(q_slider.max, float(np.ceil(values.max())) + 1.0)
         slider = self.time_slider
         self._syncing = True
         slider.min, slider.max = float(self._times[0]), float(self._times[-1])
