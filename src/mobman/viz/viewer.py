@@ -260,7 +260,8 @@ def _mesh(visual: Visual) -> trimesh.Trimesh:
 
 
 def _platform_shapes(robot: MobileManipulator) -> tuple[tuple[Visual, ...], float]:
-    """Generated platform body and wheels (for a platform without visuals), and the ground height."""
+    """Generated platform body, wheels and mount pillars (for a platform without visuals), and the ground
+    height."""
     platform = robot.platform
     if isinstance(platform, DifferentialDrive):
         r, b = platform.wheel_radius, platform.half_track
@@ -282,6 +283,18 @@ def _platform_shapes(robot: MobileManipulator) -> tuple[tuple[Visual, ...], floa
             "cylinder", _pose(turn, (x, y, -h / 2)), (r, 0.4 * r), rgba=_rgba(WHEEL_COLOR), name=f"wheel{i}"
         )
         for i, (x, y) in enumerate(wheels)
+    ]
+    # a pillar from the deck up to each arm mounted above it
+    shapes += [
+        Visual(
+            "cylinder",
+            _pose(np.eye(3), (m.x, m.y, m.z / 2)),
+            (0.6 * r, m.z),
+            rgba=_rgba(BODY_COLOR),
+            name=f"mount{i}",
+        )
+        for i, m in enumerate(robot.mounts)
+        if m.z > 1e-6
     ]
     return tuple(shapes), -h / 2 - r
 
