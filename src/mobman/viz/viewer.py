@@ -8,7 +8,8 @@ sliders, and for a motion a time slider, play / pause and the measures plotted a
 
 The ellipsoid drawn at the end effector is the kinematic manipulability ellipsoid {J̄_p η : ‖η‖ ≤ 1} of the
 position rows J̄_p of J̄ (Nait-Chabane §3.1), or with ``normalized=True`` that of J̄_p · diag(η_max) (eq. 23),
-scaled by one constant factor for the whole session so that its changes of size show.
+scaled by one constant factor for the whole session so that its changes of size show. Given a dynamic model, the
+dynamic ellipsoid of the tool's accelerations at rest is drawn too (Yamamoto & Yun 1999, eq. 27–38).
 
 Links are drawn from the robot's :class:`~mobman.model.visual.Visual` shapes (URDF meshes, boxes, cylinders,
 spheres); a robot without them gets cylinders between successive joint origins, and a platform body and wheels
