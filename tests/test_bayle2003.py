@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 
 from mobman import kinematics as K
+from mobman.cli import main
 from mobman.experiments import bayle2003 as b
+from mobman.io import trajectories
 from mobman.model import robots
 from mobman.model.task import Position
 
@@ -158,3 +160,20 @@ def test_fig6_follows_the_alpha_schedule(setup, fig6):
     assert (
         np.count_nonzero(np.diff(np.sign(r.eta[np.abs(r.eta[:, 0]) > 1e-3, 0])) != 0) <= 5
     )  # smooth: few manoeuvres
+
+
+def test_trajectories_hold_every_motion_with_its_robot(out, fig5, fig6):
+    motions = trajectories.read(out)
+    assert [m.label for m in motions] == [f"Fig. 5: {name}" for name, *_ in fig5] + ["Fig. 6"]
+    robot = robots.bayle_planar(l1=b.L1, l2=b.L2)
+    assert all(m.describes(robot) and not m.describes(robots.bayle_planar()) for m in motions)
+    for motion, r in zip(motions, [run for *_, run in fig5] + [fig6[3]]):
+        np.testing.assert_allclose(motion.q, r.q, rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(motion.t, r.t, rtol=1e-12, atol=1e-12)
+
+
+def test_view_of_the_results_folder_renders_the_robot(out, artifacts, robot_pixels, capsys):
+    png = artifacts / "view_bayle2003.png"
+    main(["view", str(out), "--port", "0", "--screenshot", str(png)])
+    assert f"screenshot: {png}" in capsys.readouterr().out
+    assert robot_pixels(png.read_bytes()).sum() > 50  # the links are drawn

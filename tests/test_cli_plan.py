@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from mobman.cli import main
+from mobman.io import trajectories
 
 
 def _run(args, capsys):
@@ -38,6 +40,10 @@ def test_plan_json_reaches_tolerance_and_writes_figures(tmp_path, capsys):
     assert len(report["lambda"]) == 10 and len(report["x"]) == 3
     for name in ("paths.png", "convergence.png"):
         assert (tmp_path / name).stat().st_size > 1000
+    (motion,) = trajectories.read(tmp_path)  # the planned q(t): platform from the start, the arm held at x
+    assert motion.robot_name == "tchon-car-rtr" and motion.t[0] == 0.0 and motion.t[-1] == pytest.approx(1.0)
+    np.testing.assert_allclose(motion.q[0, :4], [5.0, 0.0, 0.0, np.pi / 6], atol=1e-15)
+    np.testing.assert_allclose(motion.q[:, 4:], np.broadcast_to(report["x"], (len(motion.t), 3)), atol=1e-15)
 
 
 @pytest.mark.parametrize(

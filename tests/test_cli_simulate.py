@@ -5,9 +5,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from mobman.cli import main
+from mobman.io import trajectories
+from mobman.model import robots
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "bayle_ellipse.toml"
 
@@ -60,6 +63,10 @@ def test_simulate_json_and_out(tmp_path, capsys):
         metrics["max_error"]
     )
     assert (out / "paths.png").stat().st_size > 0 and (out / "timeseries.png").stat().st_size > 0
+    (motion,) = trajectories.read(out)  # q(t) and the robot beside the results, for `mobman view`
+    assert motion.robot_name == "bayle-planar" and motion.describes(robots.bayle_planar())
+    np.testing.assert_array_equal(motion.q, saved["series"]["q"])
+    np.testing.assert_array_equal(motion.t, saved["series"]["t"])
     main(["simulate", str(_spec(tmp_path, SHORT))])
     assert "graining_points" in capsys.readouterr().out
 

@@ -22,14 +22,14 @@ from rich.table import Table
 from mobman.cli.app import app
 from mobman.cli.common import load_robot, not_reached
 from mobman.errors import InputError
-from mobman.io import dump_json
+from mobman.io import dump_json, trajectories
 from mobman.io.numbers import parse_vector
 from mobman.io.output import check_folder, results_folder
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, plan
 from mobman.planning.basis import Fourier
-from mobman.planning.endpoint import PlanningSetting, dexterity
+from mobman.planning.endpoint import PlanningSetting, configuration_path, dexterity
 from mobman.planning.figures import plot_convergence, plot_paths
 
 MAX_HARMONICS = 100
@@ -189,6 +189,10 @@ def plan_command(
     }
     if out is not None:
         with results_folder(out, "plan") as staging:
+            t, q = configuration_path(setting, result.z, q0)
+            trajectories.write(
+                staging, [trajectories.Motion.of(f"{algorithm}, {result.status}", robot, t, q)]
+            )
             title = f"{robot_name}: {algorithm}, {result.status}"
             plot_paths(setting, result.z, q0, y_d, title, staging / "paths.png")
             plot_convergence(

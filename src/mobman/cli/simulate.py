@@ -12,7 +12,7 @@ from rich.table import Table
 
 from mobman.cli.app import app
 from mobman.cli.common import MAX_STEPS, check_steps, not_reached
-from mobman.io import dump_json
+from mobman.io import dump_json, trajectories
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
 
 PROGRESS_STEPS = 5000
@@ -65,6 +65,7 @@ def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
     write_text(
         out / "results.json", dump_json({"spec": str(spec_path), "metrics": summary, "series": series})
     )
+    trajectories.write(out, [trajectories.Motion.of(spec_path.stem, result.robot, result.t, result.q)])
     figures = [out / "paths.png", out / "timeseries.png"]
     save_figure(plot_paths(result.robot, result.q, reference=result.xi_star[:, :2]), figures[0], dpi=120)
     panels = {

@@ -26,6 +26,7 @@ import numpy as np
 from mobman import kinematics
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.experiments.report import Reproduction
+from mobman.io import trajectories
 from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.task import Position
@@ -200,6 +201,8 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         zone3_final_arm_w5=float(res.measures["arm_w5"][-1]),
     )
     figures = _figures(out, robot, task, fig5, fig6)
+    motions = [trajectories.Motion.of(f"Fig. 5: {name}", robot, r.t, r.q) for name, _, _, r in fig5[1]]
+    trajectories.write(out, motions + [trajectories.Motion.of("Fig. 6", res.robot, res.t, res.q)])
     results = {
         "settings": dict(SETTINGS, duration=duration, dt=dt, gains=list(GAINS)),
         "fig5": rows,

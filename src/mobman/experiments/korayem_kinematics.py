@@ -28,6 +28,7 @@ from mobman import viz
 from mobman.control import laws, references, simulate
 from mobman.control.simulation import SimulationResult
 from mobman.experiments.report import Reproduction
+from mobman.io import trajectories
 from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator
@@ -266,6 +267,9 @@ def run(out: Path, quick: bool = False) -> Reproduction:
             path = out / f"model{model.number}_{kind}.png"
             save_figure(fig, path, dpi=110)
             figures.append(path)
+    trajectories.write(
+        out, [trajectories.Motion.of(f"model {n}", robot, r.t, r.q) for n, r in sorted(runs.items())]
+    )
     return Reproduction(NAME, TITLE, results, report(robot, results, dt), figures)
 
 

@@ -29,6 +29,7 @@ from mobman import viz
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.control.simulation import SimulationResult
 from mobman.experiments.report import Reproduction
+from mobman.io import trajectories
 from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator, Mount
@@ -206,7 +207,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     out.mkdir(parents=True, exist_ok=True)
     robot = manus_robot()
     dt = 1 / 32 if quick else 1 / 64  # binary fractions: k · dt is exact, the reference ends exactly at t = T
-    entries, figures = [], []
+    entries, figures, motions = [], [], []
     for case in CASES:
         chosen: dict[str, SimulationResult] = {}
         for strategy in STRATEGIES:
@@ -219,6 +220,10 @@ def run(out: Path, quick: bool = False) -> Reproduction:
                 entries.append(summarize(case, strategy, gain, r, robot))
                 if gain is None or gain == GAIN:
                     chosen[strategy] = r
+                    label = strategy if gain is None else f"{strategy}, W = {gain:g}"
+                    motions.append(
+                        trajectories.Motion.of(f"case {case}: {label}", robot, r.t, r.q, manus_robot)
+                    )
                     fig = strategy_figure(robot, case, strategy, gain, r)
                     path = out / f"fig{FIGURES[case, strategy]}_case{case}_{strategy}.png"
                     save_figure(fig, path, dpi=100)
@@ -235,6 +240,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         )
         save_figure(figure, path, dpi=100)
         figures.append(path)
+    trajectories.write(out, motions)
     return Reproduction(NAME, TITLE, entries, report(entries, dt), figures)
 
 

@@ -17,6 +17,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman.experiments.report import Reproduction
+from mobman.io import trajectories
 from mobman.model.robots import tchon_car_rtr
 from mobman.model.task import FunctionTask
 from mobman.planning.algorithms import Options
@@ -24,6 +25,7 @@ from mobman.planning.basis import Fourier
 from mobman.planning.batch import BatchResult, plan_batch
 from mobman.planning.endpoint import (
     PlanningSetting,
+    configuration_path,
     dexterity,
     dexterity_matrix,
     endpoint,
@@ -112,9 +114,23 @@ def run(out: Path, quick: bool = False) -> Reproduction:
                 }
             )
     figures = _figures(out, s, names, q0, batches)
+    first = next(iter(batches.items()))
+    trajectories.write(out, _motions(s, names, q0, *first))
     fine = _fine_errors(s, runs)
     report = _report(runs, fine, _conditioning(s, z0, q0[0], D_start[0]), cap, quick, seconds, s)
     return Reproduction("tchon2002", TITLE, runs, report, figures)
+
+
+def _motions(s: PlanningSetting, names: list[str], q0: np.ndarray, run_key, batch) -> list:
+    """The planned motion from each start with the first algorithm run."""
+    algorithm, step = run_key
+    motions = []
+    for i, name in enumerate(names):
+        r = batch.run(s, i)
+        t, q = configuration_path(s, r.z, q0[i])
+        label = f"start {name}: {algorithm}, step {step}, {r.status}"
+        motions.append(trajectories.Motion.of(label, s.robot, t, q))
+    return motions
 
 
 def _fine_errors(s: PlanningSetting, runs: list[dict]) -> np.ndarray:

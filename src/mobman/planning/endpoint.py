@@ -227,6 +227,14 @@ def trajectory(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray,
     return np.linspace(0.0, setting.horizon, setting.steps + 1), np.asarray(q_p), np.asarray(y)
 
 
+def configuration_path(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray]:
+    """Times t_k and whole configurations q(t_k) = (q_p(t_k), x) of the planned motion (the arm's joints held
+    at x, Tchoń et al. §2), on the integration grid."""
+    t, q_p, _ = trajectory(setting, z, q0)
+    _, x = setting.split(jnp.asarray(z, float))
+    return t, np.concatenate([q_p, np.broadcast_to(np.asarray(x), (len(t), setting.n_joints))], axis=1)
+
+
 def variational_of_task(setting: PlanningSetting, task: Task, z, q0, with_mobility: bool) -> Variational:
     """Endpoint, Jacobian (Tchoń et al. 2002, eqs. 5–8) and optionally 𝓜 for any output ``task``, traceable."""
     lam, x = setting.split(z)

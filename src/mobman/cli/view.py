@@ -1,0 +1,87 @@
+"""``mobman view ROBOT``: the robot (or a run's motions) in the browser, served by :class:`mobman.viz.viewer.Viewer`."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import typer
+
+from mobman.cli.app import app
+from mobman.cli.common import load_robot, parse_vector
+from mobman.errors import InputError
+
+
+def _is_results(name: str) -> bool:
+    path = Path(name)
+    return path.is_dir() or (path.is_file() and path.suffix == ".json")
+
+
+@app.command("view")
+def view_command(
+    robot_name: str = typer.Argument(
+        ..., metavar="ROBOT", help="built-in robot, robot file, or a results folder (its robot is used)"
+    ),
+    q: str | None = typer.Option(None, "--q", help="Configuration to show, e.g. 0,0,0,0.3,pi/4."),
+    results: Path | None = typer.Option(
+        None, "--results", help="Results folder or JSON file with a motion (simulate/plan --out, reproduce)."
+    ),
+    motion: str | None = typer.Option(None, "--motion", help="Label of the motion to show first."),
+    port: int = typer.Option(8080, "--port", help="Port to serve on (0: any free port)."),
+    host: str = typer.Option("127.0.0.1", "--host", help="Address to bind (loopback by default)."),
+    normalized: bool = typer.Option(
+        False, "--normalized", help="Ellipsoid of J̄ · diag(η_max) (needs velocity limits)."
+    ),
+    dynamic: bool = typer.Option(
+        False, "--dynamic", help="Also the dynamic ellipsoid (robots with a built-in dynamic model)."
+    ),
+    screenshot_path: Path | None = typer.Option(
+        None, "--screenshot", help="Render one PNG headless (chromium) into this file and exit."
+    ),
+    params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
+) -> None:
+    """Serve a 3D view of a robot, a configuration or a run's motions in the browser."""
+    from mobman.io import trajectories
+
+    try:
+        from mobman.viz.viewer import Viewer, motions_of, robot_of
+    except ImportError as exc:
+        raise InputError(
+            f"mobman view needs the viewer extra ({exc.name} is missing): pip install 'mobman[viewer]'"
+        ) from None
+
+    if not 0 <= port <= 65535:
+        raise InputError(f"--port must be in 0..65535, got {port}")
+    if _is_results(robot_name):
+        if results is not None:
+            raise InputError("give the results either as ROBOT or with --results, not both")
+        results = Path(robot_name)
+        robot = robot_of(trajectories.read(results)[0])
+    else:
+        robot = load_robot(robot_name, params)
+    configuration = None if q is None else parse_vector(q, "--q", robot.n_q)
+    if results is not None:
+        motions_of(robot, results)  # a results file of another robot: said before serving anything
+    dynamics = None
+    if dynamic:
+        from mobman.cli.ellipsoid import dynamic_model
+
+        dynamics = dynamic_model(robot.name, robot)
+    viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
+    try:
+        if results is not None:
+            viewer.load_results(results, motion)
+        if configuration is not None:
+            viewer.show(configuration)
+        if screenshot_path is not None:
+            from mobman.viz.screenshot import screenshot
+
+            typer.echo(f"screenshot: {screenshot(viewer.url, screenshot_path)}")
+            return
+        typer.echo(f"mobman view: {robot.name} at {viewer.url} (Ctrl-C to stop)")
+        while True:
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        viewer.close()

@@ -1,0 +1,755 @@
+"""The robot in the browser: a viser scene with the robot, its frames, paths and manipulability ellipsoid.
+
+:class:`Viewer` serves one robot (on loopback by default) and shows a configuration (:meth:`Viewer.show`) or
+the motions saved with a run's results (:meth:`Viewer.load_results`, ``trajectories.json``). The side panel
+holds the measures w, w2, w5 of J̄ = J S (Bayle et al. 2003, eq. 2; Nait-Chabane et al. 2006, eq. 17–19), the
+reduced Jacobian itself with the kinematic / velocity singularity flags KSC / VSC (Bayle §3, §4.2), joint
+sliders, and for a motion a time slider, play / pause and the measures plotted against time.
+
+The ellipsoid drawn at the end effector is the kinematic manipulability ellipsoid {J̄_p η : ‖η‖ ≤ 1} of the
+position rows J̄_p of J̄ (Nait-Chabane §3.1), or with ``normalized=True`` that of J̄_p · diag(η_max) (eq. 23),
+scaled by one constant factor for the whole session so that its changes of size show. Given a dynamic model, the
+dynamic ellipsoid of the tool's accelerations at rest is drawn too (Yamamoto & Yun 1999, eq. 27–38).
+
+Links are drawn from the robot's :class:`~mobman.model.visual.Visual` shapes (URDF meshes, boxes, cylinders,
+spheres); a robot without them gets cylinders between successive joint origins, and a platform body and wheels
+from its dimensions. Importing this module needs the ``viewer`` extra (viser, trimesh).
+"""
+
+from __future__ import annotations
+
+import importlib
+import socket
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import jax
+import numpy as np
+import trimesh
+import viser
+import viser.transforms as vtf
+import viser.uplot
+
+from mobman import kinematics, manipulability, redundancy
+from mobman.dynamics import DynamicModel, ellipsoids
+from mobman.errors import InputError
+from mobman.io import trajectories
+from mobman.model.platform import CarLike, DifferentialDrive
+from mobman.model.robot import MobileManipulator
+from mobman.model.robots import ROBOTS, build
+from mobman.model.task import Position
+from mobman.model.visual import Visual
+
+LINK_COLOR = (255, 140, 26)
+"""Orange: the generated links (what a screenshot's robot pixels are looked for by)."""
+JOINT_COLOR = (60, 60, 70)
+BODY_COLOR = (96, 112, 140)
+WHEEL_COLOR = (35, 35, 40)
+ELLIPSOID_COLOR = (60, 130, 230)
+DYNAMIC_COLOR = (220, 60, 60)
+EE_PATH_COLOR = (20, 160, 60)
+PLATFORM_PATH_COLOR = (150, 60, 200)
+MEASURES = {"yoshikawa": "w", "inverse_condition": "w2", "eccentricity": "w5"}
+"""The measures of the panel, by their symbols in Nait-Chabane et al. (2006), eq. 17–19."""
+Dynamics = tuple[DynamicModel, np.ndarray]
+"""A dynamic model and its actuator torque limits (N·m: wheels, then joints)."""
+CHUNK = 64
+"""Configurations per compiled block (as many as :func:`mobman.redundancy.redundancy_report` samples: the
+same compiled Jacobians serve both)."""
+ELLIPSOID_SIZE = 0.4
+"""Largest semi-axis drawn for the first configuration shown, as a fraction of the robot's reach; the drawing
+factor then stays fixed."""
+
+
+@jax.tree_util.register_dataclass
+@dataclass(frozen=True)
+class Snapshot:
+    """What the viewer draws for a batch of configurations (leading axis T): the frames (platform pose, joint
+    and tool frames of each arm), the ellipsoid (centre, semi-axes, directions), J̄, the measures and the flags."""
+
+    q: np.ndarray
+    platform: tuple[np.ndarray, np.ndarray]
+    links: tuple[tuple[np.ndarray, np.ndarray], ...]
+    centre: np.ndarray
+    axes: np.ndarray
+    directions: np.ndarray
+    jbar: np.ndarray
+    measures: dict[str, np.ndarray]
+    vsc: np.ndarray
+    ksc: np.ndarray
+    defined: np.ndarray
+    """False where J (so J̄, the measures and the flags) is undefined: the task is not differentiable there."""
+    dynamic: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    """The dynamic ellipsoid of the tool's accelerations at rest (centre, semi-axes, directions), when drawn."""
+
+    def at(self, k: int) -> "Snapshot":
+        """The k-th configuration, as a batch of one."""
+        return jax.tree.map(lambda a: a[k : k + 1], self)
+
+
+def evaluate(
+    robot: MobileManipulator, q, normalized: bool = False, dynamics: Dynamics | None = None
+) -> Snapshot:
+    """Everything the viewer draws for configurations q (T, n_q), computed in blocks of :data:`CHUNK`
+    configurations (one compilation per robot serves a single configuration and a whole motion).
+
+    ``dynamics`` = (DynamicModel, torque limits): also the dynamic ellipsoid of the tool position's
+    accelerations at rest (Yamamoto & Yun eq. 27–38, :func:`mobman.dynamics.ellipsoids.dynamic_ellipsoid`)."""
+    q = robot.validate_q(np.atleast_2d(q))
+    blocks = [_evaluate(robot, q[k : k + CHUNK], normalized, dynamics) for k in range(0, len(q), CHUNK)]
+    return jax.tree.map(lambda *parts: np.concatenate(parts), *blocks)
+
+
+def _evaluate(
+    robot: MobileManipulator, q: np.ndarray, normalized: bool, dynamics: Dynamics | None
+) -> Snapshot:
+    n = len(q)
+    padded = np.concatenate([q, np.broadcast_to(q[-1], (CHUNK - n, q.shape[1]))])
+    frames = kinematics.frames(robot, padded)
+    jbar = np.asarray(kinematics.reduced_jacobian(robot, padded))
+    j_p = np.asarray(kinematics.reduced_jacobian(robot, padded, Position("xyz")))
+    limits = robot.velocity_limits
+    if normalized:
+        j_p = j_p * np.asarray(limits)
+    axes, directions = (np.asarray(a) for a in manipulability.ellipsoid(j_p))
+    report = redundancy.redundancy_report(robot)
+    # below full row rank everywhere (D̄ < m), the measures of the admissible subspace: the D̄ largest σ
+    rank = report.D_bar if report.D_bar < jbar.shape[-2] else None
+    measures = {f"{s} (J̄)": v for s, v in _measures(jbar, rank).items()}
+    if limits is not None:
+        measures.update({f"{s} (J̄_N)": v for s, v in _measures(jbar * np.asarray(limits), rank).items()})
+    jac = np.asarray(kinematics.jacobian(robot, padded))
+    # where the task is not differentiable (an angle at its branch point) J holds NaN: no rank, no flags
+    defined = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
+    d = kinematics.rank(np.where(defined[:, None, None], jac, 0.0), redundancy.RTOL)
+    d_bar = kinematics.rank(np.where(defined[:, None, None], jbar, 0.0), redundancy.RTOL)
+    links = tuple((np.asarray(r), np.asarray(p)) for r, p in frames.links)
+    dynamic = None
+    if dynamics is not None:
+        model, torque_limits = dynamics
+        e = ellipsoids.dynamic_ellipsoid(model, padded, torque_limits, task=Position("xyz"))
+        dynamic = (np.asarray(e.center), e.axes, e.directions)
+    snap = Snapshot(
+        padded,
+        tuple(np.asarray(a) for a in frames.platform),
+        links,
+        links[0][1][:, -1],
+        axes,
+        directions,
+        jbar,
+        measures,
+        defined & (d_bar < report.D_bar),
+        defined & (d < report.D),
+        defined,
+        dynamic,
+    )
+    return jax.tree.map(lambda a: a[:n], snap)
+
+
+def _measures(j: np.ndarray, rank: int | None) -> dict[str, np.ndarray]:
+    return {MEASURES[k]: np.asarray(v) for k, v in manipulability.measures(j, rank).items()}
+
+
+def robot_of(motion: trajectories.Motion) -> MobileManipulator:
+    """The robot that made a saved motion: its builder function, or the built-in robot with its parameters."""
+    if motion.factory:
+        module, _, function = motion.factory.partition(":")
+        if not module.startswith("mobman."):
+            raise InputError(f"results: robot builder {motion.factory!r} is not part of mobman")
+        try:
+            robot = getattr(importlib.import_module(module), function)()
+        except (ImportError, AttributeError):
+            raise InputError(f"results: robot builder {motion.factory!r} not found") from None
+        return robot
+    if motion.robot_name not in ROBOTS:
+        raise InputError(
+            f"results: {motion.robot_label} is not a built-in robot; give its description file as ROBOT"
+        )
+    return build(motion.robot_name, **dict(motion.parameters))
+
+
+def motions_of(robot: MobileManipulator, path: Path | str) -> list[trajectories.Motion]:
+    """The motions of ``robot`` saved in a results folder or file; an error naming the robot they are of when
+    none is."""
+    motions = trajectories.read(path)
+    mine = [m for m in motions if _made_by(robot, m)]
+    if not mine:
+        others = sorted({m.robot_label for m in motions})
+        raise InputError(
+            f"--results {path}: motions of {', '.join(others)}, not of {_label(robot)}; "
+            f"view them with `mobman view {path}`"
+        )
+    for m in mine:
+        if m.q.shape[1] != robot.n_q:
+            raise InputError(
+                f"--results {path}: motion {m.label!r} has {m.q.shape[1]} coordinates, {robot.name} {robot.n_q}"
+            )
+        bad = ~np.isfinite(m.q).all(axis=1)
+        if bad.any():
+            raise InputError(
+                f"--results {path}: motion {m.label!r} has non-finite configurations from t = {m.t[bad][0]:g} s"
+            )
+    return mine
+
+
+def _made_by(robot: MobileManipulator, motion: trajectories.Motion) -> bool:
+    if motion.factory or motion.robot_name in ROBOTS:
+        try:
+            return robot_of(motion) == robot
+        except InputError:
+            return False
+    return motion.describes(robot)
+
+
+def _label(robot: MobileManipulator) -> str:
+    params = ", ".join(f"{k}={v:.6g}" for k, v in robot.parameters)
+    return f"{robot.name} ({params})" if params else robot.name
+
+
+def _check_port_free(host: str, port: int) -> None:
+    if port == 0:
+        return
+    with socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_STREAM) as s:
+        try:
+            s.bind((host, port))
+        except OSError:
+            raise InputError(
+                f"--port {port}: already in use on {host}; try another, e.g. --port {_free_port(host)}"
+            ) from None
+
+
+def _free_port(host: str) -> int:
+    with socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind((host, 0))
+        return s.getsockname()[1]
+
+
+def _wxyz(r: np.ndarray) -> np.ndarray:
+    return vtf.SO3.from_matrix(r).wxyz
+
+
+def _segment_pose(d: np.ndarray) -> tuple[np.ndarray, float]:
+    """Rotation taking the z axis onto d, and |d| (a unit cylinder along z becomes the segment 0 → d)."""
+    length = float(np.linalg.norm(d))
+    if length < 1e-9:
+        return np.array([1.0, 0.0, 0.0, 0.0]), 0.0
+    z = d / length
+    helper = np.array([1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    return _wxyz(np.stack([x, np.cross(z, x), z], axis=1)), length
+
+
+def _mesh(visual: Visual) -> trimesh.Trimesh:
+    """The shape of a visual as a triangle mesh in the frame it is attached to."""
+    if visual.kind == "box":
+        mesh = trimesh.creation.box(extents=visual.size)
+    elif visual.kind == "cylinder":
+        mesh = trimesh.creation.cylinder(radius=visual.size[0], height=visual.size[1], sections=24)
+    elif visual.kind == "sphere":
+        mesh = trimesh.creation.icosphere(subdivisions=2, radius=visual.size[0])
+    else:
+        try:
+            mesh = trimesh.load(visual.filename, force="mesh")
+        except (OSError, ValueError) as exc:
+            raise InputError(f"visual {visual.name!r}: cannot read mesh {visual.filename} ({exc})") from None
+        mesh.apply_scale(visual.scale)
+    mesh.apply_transform(np.asarray(visual.origin).reshape(4, 4))
+    return mesh
+
+
+def _platform_shapes(robot: MobileManipulator) -> tuple[tuple[Visual, ...], float]:
+    """Generated platform body, wheels and mount pillars (for a platform without visuals), and the ground
+    height."""
+    platform = robot.platform
+    if isinstance(platform, DifferentialDrive):
+        r, b = platform.wheel_radius, platform.half_track
+        length, width, x0, wheels = 2.4 * b, 1.5 * b, 0.0, ((0.0, b), (0.0, -b))
+    elif isinstance(platform, CarLike):
+        r, b = 0.15 * platform.length, 0.3 * platform.length
+        length, width, x0 = 1.4 * platform.length, 1.6 * b, platform.length / 2
+        wheels = ((0.0, b), (0.0, -b), (platform.length, b), (platform.length, -b))
+    else:
+        r, b = 0.08, 0.25
+        length, width, x0, wheels = 0.6, 0.5, 0.0, ()
+    h = r
+    body = Visual(
+        "box", _pose(np.eye(3), (x0, 0.0, -h / 2)), (length, width, h), rgba=_rgba(BODY_COLOR), name="body"
+    )
+    turn = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])  # wheel axis along y
+    shapes = [body] + [
+        Visual(
+            "cylinder", _pose(turn, (x, y, -h / 2)), (r, 0.4 * r), rgba=_rgba(WHEEL_COLOR), name=f"wheel{i}"
+        )
+        for i, (x, y) in enumerate(wheels)
+    ]
+    # a pillar from the deck up to each arm mounted above it
+    shapes += [
+        Visual(
+            "cylinder",
+            _pose(np.eye(3), (m.x, m.y, m.z / 2)),
+            (0.6 * r, m.z),
+            rgba=_rgba(BODY_COLOR),
+            name=f"mount{i}",
+        )
+        for i, m in enumerate(robot.mounts)
+        if m.z > 1e-6
+    ]
+    return tuple(shapes), -h / 2 - r
+
+
+def _pose(r: np.ndarray, p) -> tuple[float, ...]:
+    t = np.eye(4)
+    t[:3, :3], t[:3, 3] = r, p
+    return tuple(t.ravel())
+
+
+def _rgba(rgb: tuple[int, int, int]) -> tuple[float, float, float, float]:
+    return (rgb[0] / 255, rgb[1] / 255, rgb[2] / 255, 1.0)
+
+
+def _node_name(text: str) -> str:
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in text) or "_"
+
+
+class Viewer:
+    """A viser scene of ``robot`` served at ``http://host:port`` (``port=0``: any free port).
+
+    >>> from mobman.model.robots import bayle_rrp
+    >>> viewer = Viewer(bayle_rrp(), port=0)  # doctest: +SKIP
+    >>> viewer.show([0, 0, 0, 0.3, 0.5, 0.4])  # doctest: +SKIP
+    >>> viewer.close()  # doctest: +SKIP
+
+    ``normalized=True`` draws the ellipsoid of J̄_p · diag(η_max) (the robot needs velocity limits).
+    :attr:`nodes` maps scene node names to their viser handles; :attr:`time_slider` is the time slider of a
+    loaded motion (None before :meth:`load_results`); :attr:`measures_md`, :attr:`flags_html` and
+    :attr:`jbar_md` are the panel's measures, KSC / VSC flags and J̄; :attr:`snapshot` what is drawn now.
+    """
+
+    def __init__(
+        self,
+        robot: MobileManipulator,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        *,
+        normalized: bool = False,
+        dynamics: Dynamics | None = None,
+    ) -> None:
+        if normalized and robot.velocity_limits is None:
+            manipulability.system_jacobian(robot, np.zeros(robot.n_q), normalized=True)  # raises ModelError
+        _check_port_free(host, port)
+        self.robot = robot
+        self.normalized = normalized
+        self.dynamics = dynamics
+        self.server = viser.ViserServer(host=host, port=port, label=f"mobman: {robot.name}", verbose=False)
+        if port and self.server.get_port() != port:
+            self.server.stop()
+            raise InputError(
+                f"--port {port}: already in use on {host}; try another, e.g. --port {_free_port(host)}"
+            )
+        self.host = host
+        self.nodes: dict[str, viser.SceneNodeHandle] = {}
+        self.time_slider: viser.GuiSliderHandle | None = None
+        self.motions: list[trajectories.Motion] = []
+        self.snapshot: Snapshot | None = None
+        self._motion: Snapshot | None = None
+        self._ellipsoid_factor: dict[str, float] = {}
+        self._syncing = False
+        self._playing = threading.Event()
+        self._closed = threading.Event()
+        self._player: threading.Thread | None = None
+        self._motion_gui: list = []
+        self.server.scene.set_up_direction("+z")
+        # no shadows, no environment map: software WebGL (headless chromium, remote desktops) draws it in seconds
+        self.server.scene.configure_default_lights(cast_shadow=False)
+        self.server.scene.configure_environment_map(None)
+        self.server.scene.add_light_hemisphere(
+            "/light", sky_color=(255, 255, 255), ground_color=(90, 90, 100)
+        )
+        self._build_scene()
+        self._aim_camera(np.zeros((1, 3)))
+        self._build_panel()
+        lower, upper = self._slider_ranges()
+        self.show(np.clip(np.zeros(robot.n_q), lower, upper))
+
+    # --- public API ----------------------------------------------------------------------------------
+
+    @property
+    def url(self) -> str:
+        """The address to open in a browser."""
+        host = f"[{self.host}]" if ":" in self.host else self.host
+        return f"http://{host}:{self.server.get_port()}"
+
+    def show(self, q) -> None:
+        """Draw configuration ``q`` (n_q values): robot, frames, ellipsoid, measures, J̄ and the flags."""
+        q = np.asarray(q, dtype=float)
+        if q.ndim != 1:
+            raise InputError(f"{self.robot.name}: show() takes one configuration of {self.robot.n_q} values")
+        snap = evaluate(self.robot, q, self.normalized, self.dynamics)
+        self._draw(snap)
+        self._set_sliders(snap.q[0])
+
+    def load_results(self, path: Path | str, motion: str | None = None) -> list[str]:
+        """Load the motions saved with a run's results (a folder, its ``results.json`` or ``trajectories.json``)
+        made by this robot; show the first (or the one labelled ``motion``). Returns the labels loaded."""
+        mine = motions_of(self.robot, path)
+        labels = [m.label for m in mine]
+        if motion is not None and motion not in labels:
+            raise InputError(f"--motion {motion!r}: not in {path}; choose among: {', '.join(labels)}")
+        self.motions = mine
+        self._build_motion_panel(labels)
+        self._select(labels.index(motion) if motion is not None else 0)
+        return labels
+
+    def set_time(self, t: float) -> None:
+        """Show the loaded motion at the sample nearest to time ``t`` (as the time slider does)."""
+        if self.time_slider is None:
+            raise InputError("no motion loaded: call load_results first")
+        self.time_slider.value = float(t)
+
+    def wait_for_client(self, timeout: float = 30.0) -> None:
+        """Block until a browser is connected (for scripted screenshots)."""
+        deadline = time.monotonic() + timeout
+        while not self.server.get_clients():
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"no browser connected to {self.url} within {timeout:g} s")
+            time.sleep(0.05)
+
+    def close(self) -> None:
+        """Stop playing and stop the server."""
+        self._closed.set()
+        self._playing.clear()
+        if self._player is not None:
+            self._player.join(timeout=2.0)
+        self.server.stop()
+
+    def __enter__(self) -> "Viewer":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # --- scene -----------------------------------------------------------------------------------------
+
+    def _keep(self, handle: viser.SceneNodeHandle) -> None:
+        self.nodes[handle.name] = handle
+
+    def _add_visual(self, name: str, visual: Visual) -> None:
+        mesh = _mesh(visual)
+        textured = visual.kind == "mesh" and getattr(mesh.visual, "kind", None) is not None
+        if textured:
+            self._keep(self.server.scene.add_mesh_trimesh(name, mesh))
+            return
+        color = tuple(int(round(255 * c)) for c in visual.rgba[:3])
+        opacity = None if visual.rgba[3] >= 1.0 else visual.rgba[3]
+        self._keep(
+            self.server.scene.add_mesh_simple(name, mesh.vertices, mesh.faces, color=color, opacity=opacity)
+        )
+
+    def _build_scene(self) -> None:
+        scene, robot = self.server.scene, self.robot
+        shapes, ground = (robot.platform_visuals, 0.0) if robot.platform_visuals else _platform_shapes(robot)
+        self._keep(scene.add_frame("/world", axes_length=0.3, axes_radius=0.008))
+        self._keep(scene.add_grid("/ground", width=10.0, height=10.0, position=(0.0, 0.0, ground)))
+        self._keep(scene.add_frame("/robot/platform", axes_length=0.25, axes_radius=0.01))
+        for k, visual in enumerate(shapes):
+            self._add_visual(f"/robot/platform/{_node_name(visual.name or f'visual{k}')}", visual)
+        reach = max(
+            0.3, float(np.max(np.abs(np.asarray(kinematics.frames(robot, np.zeros(robot.n_q)).links[0][1]))))
+        )
+        self._reach = reach
+        self._radius = 0.025 * min(1.0, reach)
+        self._arm_nodes: list[list[str]] = []
+        self._generated: list[list[bool]] = []
+        unit = trimesh.creation.cylinder(radius=self._radius, height=1.0, sections=20)
+        unit.apply_translation((0.0, 0.0, 0.5))
+        ball = trimesh.creation.icosphere(subdivisions=2, radius=1.4 * self._radius)
+        for arm, label in zip(robot.arms, self._arm_labels()):
+            names, generated = [], []
+            for joint, coordinate in zip(arm.joints, arm.coordinate_names):
+                node = f"/robot/{label}/{_node_name(joint.name or coordinate)}"
+                self._keep(scene.add_frame(node, show_axes=False))
+                names.append(node)
+                generated.append(not joint.visuals)
+                for k, visual in enumerate(joint.visuals):
+                    self._add_visual(f"{node}/{_node_name(visual.name or f'visual{k}')}", visual)
+                if not joint.visuals:
+                    self._keep(
+                        scene.add_mesh_simple(f"{node}/link", unit.vertices, unit.faces, color=LINK_COLOR)
+                    )
+                    self._keep(
+                        scene.add_mesh_simple(f"{node}/joint", ball.vertices, ball.faces, color=JOINT_COLOR)
+                    )
+            tool = f"/robot/{label}/tool"
+            self._keep(scene.add_frame(tool, axes_length=0.12, axes_radius=0.006))
+            names.append(tool)
+            self._arm_nodes.append(names)
+            self._generated.append(generated)
+        sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
+        shown = ("/ellipsoid", ELLIPSOID_COLOR), ("/ellipsoid_dynamic", DYNAMIC_COLOR)
+        for name, color in shown[: 2 if self.dynamics is not None else 1]:
+            self._keep(
+                scene.add_mesh_simple(
+                    name, sphere.vertices, sphere.faces, color=color, opacity=0.35, cast_shadow=False
+                )
+            )
+
+    def _aim_camera(self, points: np.ndarray) -> None:
+        """Point the initial camera at the middle of ``points`` and the robot, from far enough to see them."""
+        low, high = points.min(axis=0), points.max(axis=0)
+        centre = (low + high) / 2
+        extent = max(float(np.max(high - low)), 2.0 * self._reach)
+        camera = self.server.initial_camera
+        camera.look_at = centre
+        camera.position = centre + extent * np.array([0.7, -1.0, 0.65])
+
+    def _arm_labels(self) -> list[str]:
+        labels = [_node_name(a.name) for a in self.robot.arms]
+        return labels if len(set(labels)) == len(labels) else [f"arm{i + 1}" for i in range(len(labels))]
+
+    def _draw(self, snap: Snapshot) -> None:
+        """Move every node to the poses of a one-configuration snapshot and refresh the panel."""
+        self.snapshot = snap
+        nodes = self.nodes
+        with self.server.atomic():
+            r, p = snap.platform
+            nodes["/robot/platform"].wxyz, nodes["/robot/platform"].position = _wxyz(r[0]), p[0]
+            for (rs, ps), names, generated in zip(snap.links, self._arm_nodes, self._generated):
+                wxyz = _wxyz(rs[0])
+                for i, name in enumerate(names):
+                    nodes[name].wxyz, nodes[name].position = wxyz[i], ps[0, i]
+                    if i < len(generated) and generated[i]:
+                        local = rs[0, i].T @ (ps[0, i + 1] - ps[0, i])
+                        turn, length = _segment_pose(local)
+                        link = nodes[f"{name}/link"]
+                        link.wxyz, link.scale = turn, (1.0, 1.0, max(length, 1e-6))
+                        link.visible = length > 1e-9
+            self._draw_ellipsoid(snap)
+        self._update_panel(snap)
+
+    def _draw_ellipsoid(self, snap: Snapshot) -> None:
+        self._draw_one("/ellipsoid", snap.centre[0], snap.axes[0], snap.directions[0])
+        if snap.dynamic is not None:
+            centre, axes, directions = snap.dynamic
+            self._draw_one("/ellipsoid_dynamic", snap.centre[0], axes[0], directions[0], centre[0])
+
+    def _draw_one(
+        self,
+        name: str,
+        at: np.ndarray,
+        axes: np.ndarray,
+        directions: np.ndarray,
+        offset: np.ndarray | None = None,
+    ) -> None:
+        """An ellipsoid node at ``at`` (+ its own centre ``offset``, in the drawing's scale): one drawing factor
+        per ellipsoid for the whole session, set by the first configuration shown."""
+        directions = directions.copy()
+        finite = bool(np.isfinite(axes).all() and np.isfinite(directions).all())
+        if name not in self._ellipsoid_factor and finite:
+            self._ellipsoid_factor[name] = ELLIPSOID_SIZE * self._reach / max(float(axes[0]), 1e-9)
+        node = self.nodes[name]
+        node.visible = finite and name in self._ellipsoid_factor
+        if not node.visible:
+            return
+        factor = self._ellipsoid_factor[name]
+        if np.linalg.det(directions) < 0:
+            directions[:, -1] *= -1.0
+        node.position = at if offset is None else at + factor * offset
+        node.wxyz = _wxyz(directions)
+        node.scale = tuple(float(max(a * factor, 1e-4)) for a in axes)
+
+    # --- panel -----------------------------------------------------------------------------------------
+
+    def _slider_ranges(self) -> tuple[np.ndarray, np.ndarray]:
+        lower, upper = (np.array(v, dtype=float) for v in zip(*self.robot.position_limits))
+        n_p = self.robot.platform.n_q
+        default_lo = np.array([-3.0, -3.0, -np.pi] + [-1.0] * (n_p - 3) + [-np.pi] * (self.robot.n_q - n_p))
+        kinds = ["platform"] * n_p + [j.kind for a in self.robot.arms for j in a.joints]
+        prismatic = np.array([k == "prismatic" for k in kinds])
+        lo = np.where(np.isfinite(lower), lower, np.where(prismatic, -1.0, default_lo))
+        hi = np.where(np.isfinite(upper), upper, np.where(prismatic, np.maximum(lo, 0.0) + 1.0, -default_lo))
+        return lo, hi
+
+    def _build_panel(self) -> None:
+        gui = self.server.gui
+        self.measures_md = gui.add_markdown("")
+        self.flags_html = gui.add_html("")
+        self.jbar_md = gui.add_markdown("")
+        lo, hi = self._slider_ranges()
+        self._sliders = []
+        with gui.add_folder("Configuration q"):
+            for name, a, b in zip(self.robot.coordinate_names, lo, hi):
+                slider = gui.add_slider(name, min=float(a), max=float(b), step=1e-3, initial_value=float(a))
+                slider.on_update(self._on_joint_slider)
+                self._sliders.append(slider)
+
+    def _on_joint_slider(self, _event) -> None:
+        if self._syncing:
+            return
+        self.show(np.array([s.value for s in self._sliders]))
+
+    def _set_sliders(self, q: np.ndarray) -> None:
+        self._syncing = True
+        try:
+            for slider, value in zip(self._sliders, q):
+                slider.value = float(np.clip(value, slider.min, slider.max))
+        finally:
+            self._syncing = False
+
+    def _update_panel(self, snap: Snapshot) -> None:
+        rows = "\n".join(
+            f"| {name} | {float(v[0]):.4g} |" if snap.defined[0] else f"| {name} | undefined |"
+            for name, v in snap.measures.items()
+        )
+        d_bar = redundancy.redundancy_report(self.robot).D_bar
+        rank = f" (of the {d_bar} largest σ: D̄ = {d_bar} < m)" if d_bar < self.robot.task.dim else ""
+        self.measures_md.content = f"**Measures**{rank}\n\n| measure | value |\n|---|---|\n{rows}"
+
+        def flag(name: str, singular: bool) -> str:
+            color, text = ("#d32f2f", "singular") if singular else ("#2e7d32", "regular")
+            return f'<span style="color:{color};font-weight:bold">{name}: {text}</span>'
+
+        if not snap.defined[0]:
+            self.flags_html.content = (
+                '<div style="padding:0 0.75em;color:#ef6c00;font-weight:bold">J̄ undefined here: the task is '
+                "not differentiable at this configuration</div>"
+            )
+            return
+        self.flags_html.content = f'<div style="padding:0 0.75em">{flag("VSC", bool(snap.vsc[0]))} · {flag("KSC", bool(snap.ksc[0]))}</div>'
+        jbar = snap.jbar[0]
+        header = "| " + " | ".join(self.robot.control_names) + " |"
+        rule = "|" + "---|" * jbar.shape[1]
+        body = "\n".join("| " + " | ".join(f"{v:.3f}" for v in row) + " |" for row in jbar)
+        self.jbar_md.content = (
+            f"**J̄ = J S** (rows {', '.join(self.robot.task.names)})\n\n{header}\n{rule}\n{body}"
+        )
+
+    def _build_motion_panel(self, labels: list[str]) -> None:
+        for handle in self._motion_gui:
+            handle.remove()
+        gui = self.server.gui
+        self._motion_gui = []
+        if len(labels) > 1:
+            choice = gui.add_dropdown("motion", tuple(labels), initial_value=labels[0], order=-3)
+            choice.on_update(lambda _: self._select(labels.index(choice.value)))
+            self._motion_gui.append(choice)
+        self.time_slider = gui.add_slider(
+            "time (s)", min=0.0, max=1.0, step=1e-3, initial_value=0.0, order=-2
+        )
+        self.time_slider.on_update(lambda _: self._on_time())
+        self._play = gui.add_button("play / pause", order=-1.5)
+        self._play.on_click(lambda _: self._toggle_play())
+        self._plot = None
+        self._motion_gui += [self.time_slider, self._play]
+        if self._player is None:
+            self._player = threading.Thread(target=self._play_loop, daemon=True)
+            self._player.start()
+
+    def _select(self, index: int) -> None:
+        motion = self.motions[index]
+        self._playing.clear()
+        self._motion = evaluate(self.robot, motion.q, self.normalized, self.dynamics)
+        self._times = motion.t
+        scene = self.server.scene
+        ee = self._motion.centre
+        platform = self._motion.platform[1]
+        self._aim_camera(np.concatenate([ee, platform]))
+        for name, points, color in (
+            ("/paths/ee", ee, EE_PATH_COLOR),
+            ("/paths/platform", platform, PLATFORM_PATH_COLOR),
+        ):
+            segments = (
+                np.stack([points[:-1], points[1:]], axis=1)
+                if len(points) > 1
+                else np.stack([points, points], 1)
+            )
+            self._keep(
+                scene.add_line_segments(name, segments, colors=color, thickness=2.0, thickness_units="screen")
+            )
+        if self._plot is not None:
+            self._plot.remove()
+        plotted = {n: v for n, v in self._motion.measures.items() if n.endswith("(J̄)")}
+        self._plotted = plotted
+        top = max(1.0, float(np.nanmax(np.concatenate(list(plotted.values())))))
+        palette = ("#1f77b4", "#9467bd", "#2ca02c")  # no orange: the links' colour
+        series = [viser.uplot.Series(label="t (s)")]
+        series += [
+            viser.uplot.Series(label=name, stroke=palette[i % len(palette)], width=1.5)
+            for i, name in enumerate(plotted)
+        ]
+        series.append(
+            viser.uplot.Series(label="now", stroke="#d32f2f", width=0, points={"show": True, "size": 8})
+        )
+        self._plot = self.server.gui.add_uplot(
+            self._plot_data(0),
+            tuple(series),
+            title="measures of J̄ along the motion",
+            scales={
+                "x": viser.uplot.Scale(time=False, auto=True),
+                "y": viser.uplot.Scale(range=(0.0, 1.05 * top)),
+            },
+            aspect=1.4,
+            order=-1,
+        )
+        self._motion_gui.append(self._plot)
+        for coordinate in (0, 1):  # the platform's x and y sliders cover the motion
+            values, q_slider = motion.q[:, coordinate], self._sliders[coordinate]
+            q_slider.min = min(q_slider.min, float(np.floor(values.min())) - 1.0)
+            q_slider.max = max(q_slider.max, float(np.ceil(values.max())) + 1.0)
+        slider = self.time_slider
+        self._syncing = True
+        slider.min, slider.max = float(self._times[0]), float(self._times[-1])
+        slider.step = float(max(np.min(np.diff(self._times)) if len(self._times) > 1 else 1e-3, 1e-6))
+        self._syncing = False
+        slider.value = float(self._times[0])
+        self._on_time()
+
+    def _index(self) -> int:
+        k = int(np.searchsorted(self._times, self.time_slider.value))
+        if k > 0 and (
+            k == len(self._times)
+            or self.time_slider.value - self._times[k - 1] < self._times[k] - self.time_slider.value
+        ):
+            k -= 1
+        return min(k, len(self._times) - 1)
+
+    def _on_time(self) -> None:
+        if self._syncing or self._motion is None:
+            return
+        k = self._index()
+        snap = self._motion.at(k)
+        self._draw(snap)
+        self._set_sliders(snap.q[0])
+        self._plot.data = self._plot_data(k)
+
+    def _plot_data(self, k: int) -> tuple[np.ndarray, ...]:
+        """The plotted measures against time, and the marker series: the last one's value at sample k only."""
+        values = list(self._plotted.values())
+        now = np.full_like(self._times, np.nan)
+        now[k] = values[-1][k]
+        return (self._times, *values, now)
+
+    def _toggle_play(self) -> None:
+        if self._playing.is_set():
+            self._playing.clear()
+        else:
+            if self.time_slider.value >= self._times[-1]:
+                self.time_slider.value = float(self._times[0])
+            self._playing.set()
+
+    def _play_loop(self) -> None:
+        period = 0.05
+        while not self._closed.is_set():
+            if not self._playing.wait(timeout=0.2):
+                continue
+            start = time.monotonic()
+            t = min(self.time_slider.value + period, float(self._times[-1]))
+            self.time_slider.value = t
+            if t >= self._times[-1]:
+                self._playing.clear()
+            time.sleep(max(0.0, period - (time.monotonic() - start)))
+
+
+__all__ = ["Snapshot", "Viewer", "evaluate", "motions_of", "robot_of"]

@@ -1,0 +1,34 @@
+"""Fixtures shared by the browser tests: the artifacts folder and the robot-pixel mask of a screenshot."""
+
+from __future__ import annotations
+
+import io
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+
+@pytest.fixture(scope="session")
+def artifacts(tmp_path_factory) -> Path:
+    """``$MOBMAN_ARTIFACTS`` (kept by CI) or a temporary folder, for the screenshots."""
+    folder = os.environ.get("MOBMAN_ARTIFACTS")
+    path = Path(folder) if folder else tmp_path_factory.mktemp("artifacts")
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def _robot_pixels(png: bytes) -> np.ndarray:
+    from PIL import Image
+
+    rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=float)
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    return (r > 90) & (r - b > 0.5 * r) & (g > 0.3 * r) & (g < 0.8 * r)
+
+
+@pytest.fixture(scope="session")
+def robot_pixels():
+    """PNG bytes → mask of the generated links' orange (255, 140, 26) under any shading: red well above blue,
+    green in between (the axes' red, the paths' green and the ellipsoid's blue stay out)."""
+    return _robot_pixels

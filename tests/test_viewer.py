@@ -1,0 +1,265 @@
+"""The viewer: its scene tree, poses and ellipsoid checked against closed forms, and the page in a real browser.
+
+The browser is Debian's chromium driven by Playwright (software WebGL); the server binds 127.0.0.1 on a free
+port and is stopped by the fixture. Screenshots go to the ``artifacts`` folder (conftest.py).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import shutil
+import time
+
+import numpy as np
+import pytest
+from playwright.sync_api import sync_playwright
+
+from mobman.errors import InputError
+from mobman.io import trajectories
+from mobman.model import robots
+from mobman.model.visual import Visual
+from mobman.viz.viewer import Viewer
+
+CHROMIUM_ARGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+T = np.linspace(0.0, 2.0, 21)
+# bayle-rrp: q = (x, y, θ, q4, q5, q6); every coordinate moves, q5 passes exactly π/2 (arm vertical)
+Q = np.stack(
+    [
+        0.6 * T / 2,
+        0.2 * T / 2,
+        0.5 * T / 2,
+        np.pi * T / 2,
+        0.2 + (np.pi / 2 - 0.2) * T / 2,
+        0.3 + 0.3 * T / 2,
+    ],
+    axis=1,
+)
+
+
+def tool_position(q: np.ndarray) -> np.ndarray:
+    """Closed form of bayle-rrp's tool: the arm base at the platform point, q4 about z, q5 lifts, q6 slides."""
+    x, y, theta, q4, q5, q6 = q
+    heading = theta + q4
+    return np.array([x, y, 0.0]) + q6 * np.array(
+        [np.cos(heading) * np.cos(q5), np.sin(heading) * np.cos(q5), np.sin(q5)]
+    )
+
+
+def semi_axes(q: np.ndarray) -> np.ndarray:
+    """Singular values of J̄_p = (∂p/∂q) S(q) by central differences of the closed form (NumPy SVD)."""
+    h = 1e-6
+    jac = np.stack(
+        [(tool_position(q + h * e) - tool_position(q - h * e)) / (2 * h) for e in np.eye(6)], axis=1
+    )
+    s = np.zeros((6, 5))
+    s[0, 0], s[1, 0], s[2, 1] = np.cos(q[2]), np.sin(q[2]), 1.0
+    s[3:, 2:] = np.eye(3)
+    return np.linalg.svd(jac @ s, compute_uv=False)
+
+
+@pytest.fixture(scope="module")
+def viewer(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("motion")
+    robot = robots.bayle_rrp()
+    trajectories.write(folder, [trajectories.Motion.of("sweep", robot, T, Q)])
+    with Viewer(robot, port=0) as v:
+        v.load_results(folder)
+        yield v
+
+
+def test_scene_tree_holds_every_link_frame_and_path(viewer):
+    names = set(viewer.nodes)
+    for joint in ("q4", "q5", "q6"):
+        assert {f"/robot/rrp/{joint}", f"/robot/rrp/{joint}/link"} <= names
+    assert {
+        "/world",
+        "/robot/platform",
+        "/robot/rrp/tool",
+        "/ellipsoid",
+        "/paths/ee",
+        "/paths/platform",
+    } <= names
+    assert viewer.url.startswith("http://127.0.0.1:")
+
+
+def test_time_moves_the_robot_and_resizes_the_ellipsoid_as_the_closed_form_says(viewer):
+    scales = []
+    for k in (0, 10, 20):
+        viewer.set_time(T[k])
+        np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, tool_position(Q[k]), atol=1e-9)
+        np.testing.assert_allclose(
+            viewer.nodes["/robot/platform"].position, [Q[k, 0], Q[k, 1], 0.0], atol=1e-12
+        )
+        scales.append(np.sort(np.asarray(viewer.nodes["/ellipsoid"].scale))[::-1])
+    # one drawing factor for the whole session: the drawn axes are proportional to the singular values
+    for k, scale in zip((0, 10, 20), scales):
+        np.testing.assert_allclose(
+            scale / scales[0][0], semi_axes(Q[k]) / semi_axes(Q[0])[0], rtol=1e-6, atol=1e-3
+        )
+    assert abs(scales[2][0] - scales[0][0]) > 0.01 * scales[0][0]
+
+
+def jacobians(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """J and J̄ = J S of bayle-rrp's task (tool position, heading θ + q4, elevation asin(sin q5)), by central
+    differences."""
+
+    def task(q):
+        return np.concatenate([tool_position(q), [q[2] + q[3], np.arcsin(np.sin(q[4]))]])
+
+    h = 1e-6
+    jac = np.stack([(task(q + h * e) - task(q - h * e)) / (2 * h) for e in np.eye(6)], axis=1)
+    s = np.zeros((6, 5))
+    s[0, 0], s[1, 0], s[2, 1] = np.cos(q[2]), np.sin(q[2]), 1.0
+    s[3:, 2:] = np.eye(3)
+    return jac, jac @ s
+
+
+def test_configurations_update_jbar_and_the_singular_flags(viewer):
+    rng = np.random.default_rng(0)
+    generic = rng.uniform(-np.pi, np.pi, (16, 6))
+    generic[:, 5] = rng.uniform(0.1, 1.0, 16)
+    d_max = max(np.linalg.matrix_rank(jacobians(q)[0], tol=1e-6) for q in generic)
+    d_bar_max = max(np.linalg.matrix_rank(jacobians(q)[1], tol=1e-6) for q in generic)
+    for q in ([0.0, 0.0, 0.0, 0.3, 0.4, 0.0], [1.0, -1.0, np.pi, -0.3, 0.4, 0.5], generic[0]):
+        q = np.asarray(q)
+        viewer.show(q)
+        jac, jbar = jacobians(q)
+        np.testing.assert_allclose(viewer.snapshot.jbar[0], jbar, atol=1e-6)
+        vsc = np.linalg.matrix_rank(jbar, tol=1e-6) < d_bar_max
+        ksc = np.linalg.matrix_rank(jac, tol=1e-6) < d_max
+        html = viewer.flags_html.content
+        assert ("VSC: singular" in html) == vsc and ("KSC: singular" in html) == ksc
+        w = viewer.snapshot.measures["w (J̄)"][0]
+        # D̄ < m = 5 for this task: w is the product of the D̄ largest singular values (the admissible subspace)
+        assert w == pytest.approx(np.prod(np.linalg.svd(jbar, compute_uv=False)[:d_bar_max]), abs=1e-6)
+        assert f"| w (J̄) | {w:.4g} |" in viewer.measures_md.content
+        np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, tool_position(q), atol=1e-9)
+    # elevation = asin(sin q5) has a kink at q5 = π/2: J̄ is undefined there, and the panel says so
+    viewer.show(np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.5]))
+    assert not viewer.snapshot.defined[0] and "undefined" in viewer.flags_html.content
+    np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, [0.0, 0.0, 0.5], atol=1e-12)
+
+
+def test_visual_shapes_replace_the_generated_links(tmp_path):
+    """A robot with visuals (as a URDF gives them): a box and an STL mesh on joint q4, a platform cylinder."""
+    import trimesh
+
+    mesh_file = tmp_path / "link.stl"
+    trimesh.creation.box(extents=(0.2, 0.2, 0.2)).export(mesh_file)
+    shift = np.eye(4)
+    shift[:3, 3] = (0.1, 0.0, 0.05)
+    box = Visual("box", tuple(shift.ravel()), (0.4, 0.2, 0.1), rgba=(0.2, 0.4, 0.8, 1.0), name="shell")
+    stl = Visual("mesh", filename=str(mesh_file), scale=(0.5, 0.5, 0.5), name="motor")
+    plain = robots.bayle_rrp()
+    arm = plain.arms[0]
+    joints = (dataclasses.replace(arm.joints[0], visuals=(box, stl)),) + arm.joints[1:]
+    robot = dataclasses.replace(
+        plain,
+        arms=(dataclasses.replace(arm, joints=joints),),
+        platform_visuals=(Visual("cylinder", size=(0.3, 0.1), name="base"),),
+    )
+    with Viewer(robot, port=0) as v:
+        names = set(v.nodes)
+        assert {"/robot/rrp/q4/shell", "/robot/rrp/q4/motor", "/robot/platform/base"} <= names
+        assert "/robot/rrp/q4/link" not in names and "/robot/rrp/q5/link" in names
+        assert not any(n.startswith("/robot/platform/wheel") for n in names)
+        corners = np.array([[x, y, z] for x in (-0.1, 0.3) for y in (-0.1, 0.1) for z in (0.0, 0.1)])
+        drawn = np.asarray(v.nodes["/robot/rrp/q4/shell"].vertices)
+        np.testing.assert_allclose(np.unique(drawn.round(6), axis=0), corners, atol=1e-6)
+        np.testing.assert_allclose(
+            np.abs(np.asarray(v.nodes["/robot/rrp/q4/motor"].vertices)).max(), 0.05, atol=1e-6
+        )
+        assert tuple(v.nodes["/robot/rrp/q4/shell"].color) == (51, 102, 204)
+
+
+def test_browser_connects_and_the_time_slider_moves_the_robot_pixels(viewer, artifacts, robot_pixels):
+    out = artifacts
+    viewer.set_time(0.0)
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=shutil.which("chromium"), args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1100, "height": 750})
+            page.goto(viewer.url)
+            page.wait_for_selector("canvas")
+            viewer.wait_for_client(timeout=30)
+            assert page.get_by_text("mobman: bayle-rrp").count() >= 1
+            before = _settled(page)
+            pose = viewer.nodes["/robot/rrp/q6"].position.copy()
+            page.get_by_role("slider").first.focus()  # the time slider heads the panel
+            page.keyboard.press("End")
+            deadline = time.monotonic() + 20  # the server runs the slider's callback in its own thread
+            while time.monotonic() < deadline and not np.allclose(
+                viewer.nodes["/robot/rrp/tool"].position, tool_position(Q[-1]), atol=1e-9
+            ):
+                time.sleep(0.05)
+            assert viewer.time_slider.value == pytest.approx(T[-1])
+            np.testing.assert_allclose(
+                viewer.nodes["/robot/rrp/tool"].position, tool_position(Q[-1]), atol=1e-9
+            )
+            assert np.linalg.norm(viewer.nodes["/robot/rrp/q6"].position - pose) > 0.1
+            after = _settled(page)
+            page.get_by_role("button", name="play / pause").click()  # at the end: plays again from the start
+            deadline = time.monotonic() + 20
+            while not 0 < viewer.time_slider.value < T[-1] and time.monotonic() < deadline:
+                time.sleep(0.05)
+            assert 0 < viewer.time_slider.value < T[-1]
+            page.get_by_role("button", name="play / pause").click()
+        finally:
+            browser.close()
+    (out / "viewer_bayle-rrp_start.png").write_bytes(before)
+    (out / "viewer_bayle-rrp_end.png").write_bytes(after)
+    first, last = robot_pixels(before), robot_pixels(after)
+    assert first.sum() > 200 and last.sum() > 200
+    assert (first ^ last).sum() > 200
+
+
+def _settled(page) -> bytes:
+    previous = page.screenshot()
+    for _ in range(40):
+        time.sleep(0.3)
+        shot = page.screenshot()
+        if shot == previous:
+            return shot
+        previous = shot
+    return shot
+
+
+def test_several_motions_one_chosen_by_label(tmp_path):
+    robot = robots.bayle_rrp()
+    still = np.broadcast_to(Q[5], Q.shape)
+    trajectories.write(
+        tmp_path,
+        [trajectories.Motion.of("sweep", robot, T, Q), trajectories.Motion.of("still", robot, T, still)],
+    )
+    (tmp_path / "results.json").write_text("{}")  # a run's results: the motions are read beside them
+    with Viewer(robot, port=0) as v:
+        assert v.load_results(tmp_path / "results.json", motion="still") == ["sweep", "still"]
+        v.set_time(T[-1])
+        np.testing.assert_allclose(v.nodes["/robot/rrp/tool"].position, tool_position(Q[5]), atol=1e-9)
+        with pytest.raises(InputError, match="--motion 'jump': not in"):
+            v.load_results(tmp_path, motion="jump")
+
+
+@pytest.mark.slow  # compiles the reduced dynamics of a two-arm robot for a block of configurations
+def test_dynamic_ellipsoid_is_drawn_where_a_dynamic_model_exists():
+    """yamamoto-dual-arm with its dynamic model: the red ellipsoid's axes follow the accelerations reachable at
+    rest (Yamamoto & Yun eq. 27–38, computed by mobman.dynamics and checked there against Pinocchio)."""
+    from mobman.dynamics import yamamoto_model
+    from mobman.dynamics.ellipsoids import dynamic_ellipsoid
+    from mobman.experiments.yamamoto1999 import torque_limits
+    from mobman.model.task import Position
+
+    model = yamamoto_model()
+    robot, limits = model.robot, torque_limits(model.robot)
+    qs = np.array([[0, 0, 0, 0.3, 0.8, 1.1, -0.3, -0.8, -1.1], [0, 0, 0.5, 0.1, 1.5, -0.4, -0.2, -1.2, 0.9]])
+    with Viewer(robot, port=0, dynamics=(model, limits)) as v:
+        drawn = []
+        for q in qs:
+            v.show(q)
+            drawn.append(np.asarray(v.nodes["/ellipsoid_dynamic"].scale))
+            np.testing.assert_allclose(
+                v.nodes["/ellipsoid_dynamic"].position, v.nodes["/robot/arm1/tool"].position
+            )
+    expected = dynamic_ellipsoid(model, qs, limits, task=Position("xyz")).axes
+    np.testing.assert_allclose(drawn[1] / drawn[0][0], expected[1] / expected[0][0], rtol=1e-6, atol=1e-3)
+    assert abs(drawn[1][0] - drawn[0][0]) > 0.01 * drawn[0][0]
