@@ -26,7 +26,7 @@ import mobman  # noqa: F401  (float64)
 from mobman import dynamics as dyn
 from mobman import manipulability as mp
 from mobman.dynamics.reduced import reduced_terms
-from mobman.model.real_robots import REAL_ROBOTS, urdf_model
+from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.model.task import EulerAngles, Position, stack
 from mobman.redundancy import sample_configurations
 
@@ -92,7 +92,7 @@ def main(argv=None) -> int:
         args.n, args.n_dynamics, args.single = 1_000, 200, 30
     urdf = urdf_model("tiago")
     robot = urdf.robot.with_task(stack(Position("xyz"), EulerAngles("ZYX")))
-    model = urdf.dynamic_model()
+    model = dyn.DynamicModel.from_urdf(urdf)
     pin_model = pinocchio_model(robot)
     q = sample_configurations(robot, args.n, seed=0)
     eta = np.random.default_rng(1).normal(size=(args.n, robot.n_eta))

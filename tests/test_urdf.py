@@ -15,10 +15,10 @@ from mobman import kinematics as K
 from mobman import redundancy as R
 from mobman.cli import main
 from mobman.errors import InputError, ModelError
+from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.io.urdf import inspect_urdf, load_urdf, read_urdf, urdf_tips, write_urdf
 from mobman.model import robots
 from mobman.model.platform import DifferentialDrive
-from mobman.model.real_robots import REAL_ROBOTS, urdf_model
 
 WHEEL = """
   <link name="{side}_wheel">
@@ -297,10 +297,10 @@ def test_paper_robots_round_trip_through_urdf(name, tmp_path):
 def test_mass_matrix_round_trips_through_urdf(tmp_path):
     """Yamamoto & Yun's robot with its Table 1–2 inertials: platform body, wheels and links written and read."""
     model = dyn.yamamoto_model()
-    path = write_urdf(model, tmp_path / "yamamoto.urdf")
+    path = write_urdf(model.robot, tmp_path / "yamamoto.urdf", model.body, model.wheel)
     back = read_urdf(path, tip=urdf_tips(model.robot))
     assert back.body.mass == pytest.approx(model.body.mass + 2 * model.wheel.mass, rel=1e-12)
-    back_model = back.dynamic_model(model.gravity)
+    back_model = dyn.DynamicModel.from_urdf(back, model.gravity)
     q = R.sample_configurations(model.robot, 16, seed=4)
     m, m_back = np.asarray(dyn.mass_matrix(model, q)), np.asarray(dyn.mass_matrix(back_model, q))
     assert np.abs(m_back - m).max() < 1e-12 * np.abs(m).max()
@@ -308,7 +308,7 @@ def test_mass_matrix_round_trips_through_urdf(tmp_path):
 
 def test_tiago_round_trips_through_urdf(tmp_path):
     model = urdf_model("tiago")
-    path = write_urdf(model.dynamic_model(), tmp_path / "tiago.urdf")
+    path = write_urdf(model.robot, tmp_path / "tiago.urdf", model.body, model.wheel)
     back = read_urdf(path, tip=urdf_tips(model.robot))
     assert back.robot.platform == model.robot.platform
     assert back.wheel.I_w == pytest.approx(model.wheel.I_w, rel=1e-12)
@@ -319,7 +319,7 @@ def test_tiago_round_trips_through_urdf(tmp_path):
 
 
 def test_missing_extra_gives_the_install_line(monkeypatch, capsys):
-    from mobman.model import real_robots
+    from mobman.io import real_robots
 
     absent = real_robots.RealRobot("no-such-distribution", "robot.urdf", ("tool",), "base_link")
     with pytest.raises(ModelError, match=r"no-such-distribution: pip install 'mobman\[robots\]'"):

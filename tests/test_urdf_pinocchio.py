@@ -22,7 +22,7 @@ import pinocchio as pin
 import pytest
 
 from mobman import dynamics as dyn
-from mobman.model.real_robots import REAL_ROBOTS, urdf_model
+from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 
 N = 1000
 
@@ -135,7 +135,7 @@ def test_mass_matrices_match_pinocchio_crba(name):
     if name == "tiago":
         no_spin = dyn.DynamicModel(robot, model.body, dyn.Wheel(0.0, 0.0, 0.0), None, (0.0, 0.0, -9.81))
         m_ours = np.asarray(dyn.mass_matrix(no_spin, q))
-    p_ours = np.asarray(dyn.reduced_mass_matrix(model.dynamic_model(), q))
+    p_ours = np.asarray(dyn.reduced_mass_matrix(dyn.DynamicModel.from_urdf(model), q))
     i_w = _wheel_spin(full, model)
     assert i_w == pytest.approx(model.wheel.I_w, rel=1e-12)
     r, b = robot.platform.wheel_radius, robot.platform.half_track

@@ -101,12 +101,13 @@ def _inertials(data: dict, robot):
     from dataclasses import replace
 
     from mobman import dynamics as dyn
+    from mobman.io.real_robots import REAL_ROBOTS, urdf_model
     from mobman.model.arm import LinkInertial
-    from mobman.model.real_robots import REAL_ROBOTS, urdf_model
 
     if robot.name in REAL_ROBOTS and not any(k in data for k in ("platform", "wheel", "links")):
         gravity = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
-        return replace(urdf_model(robot.name).dynamic_model(gravity), payload=_payload(data, robot))
+        model = dyn.DynamicModel.from_urdf(urdf_model(robot.name), gravity)
+        return replace(model, payload=_payload(data, robot))
     platform = fields.table(data, "platform", "platform")
     fields.keys(platform, "platform", ("mass", "inertia_z", "com"))
     body = fields.build(
@@ -213,7 +214,7 @@ def _actuators(data: dict, names: tuple[str, ...], robot_name: str) -> dict:
 def _urdf_actuators(names: tuple[str, ...], robot_name: str) -> dict:
     """``actuators = "urdf"``: |τ| ≤ the URDF's effort limit for every actuator that has one (a real robot)."""
     from mobman.dynamics.actuators import TorqueBox
-    from mobman.model.real_robots import REAL_ROBOTS, urdf_model
+    from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 
     if robot_name not in REAL_ROBOTS:
         raise InputError(

@@ -28,7 +28,7 @@ from mobman.dynamics.grasp import HeldObject
 from mobman.errors import InputError, ModelError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
-from mobman.model.real_robots import REAL_ROBOTS, urdf_model
+from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.model.robot import MobileManipulator
 
 KINDS = ("kinematic", "dynamic")
@@ -46,7 +46,7 @@ def dynamic_model(name: str, robot: MobileManipulator) -> tuple[DynamicModel, np
     key = name.replace("_", "-")
     if key in REAL_ROBOTS:
         model = urdf_model(key)
-        return model.dynamic_model(), model.torque_limits()
+        return DynamicModel.from_urdf(model), model.torque_limits()
     if key not in DYNAMIC_ROBOTS:
         raise ModelError(
             f"robot {name}: --kind dynamic needs a dynamic model (platform, wheel and link inertials and torque "

@@ -12,7 +12,7 @@ from rich.table import Table
 
 from mobman.cli.app import app
 from mobman.io import dump_json
-from mobman.model.real_robots import EXTRA, REAL_ROBOTS
+from mobman.io.real_robots import EXTRA, REAL_ROBOTS
 from mobman.model.robots import ROBOTS
 
 

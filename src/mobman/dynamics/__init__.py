@@ -7,6 +7,7 @@ Contract (see the module docstrings for the equations):
     dyn.Wheel(mass, I_w, I_m)                            # required for a DifferentialDrive platform
     dyn.Payload(mass, inertia=(0,)*9, com=(0, 0, 0), arm=0)
     model = dyn.DynamicModel(robot, body, wheel, payload=None, gravity=(0, 0, -9.81))
+    model = dyn.DynamicModel.from_urdf(mobman.io.urdf.read_urdf(path, tip=...), gravity=(0, 0, -9.81))
     dyn.mass_matrix(model, q), dyn.bias(model, q, q_dot)                 # full coordinates q = (x, y, θ, q_a…)
     dyn.reduced_mass_matrix(model, q), dyn.reduced_bias(model, q, eta), dyn.input_matrix(model, q)
     dyn.inverse_dynamics(model, q, eta, eta_dot) -> tau, dyn.forward_dynamics(model, q, eta, tau) -> eta_dot
@@ -32,7 +33,7 @@ from mobman.dynamics.equations import (
     potential_energy,
     wheel_angle_rates,
 )
-from mobman.dynamics.inertia import DynamicModel, Payload, PlatformBody, Wheel, yamamoto_platform
+from mobman.dynamics.inertia import DynamicModel, yamamoto_platform
 from mobman.dynamics.load_capacity import InfeasibleMotionError, LoadCapacity, load_torques, max_load
 from mobman.dynamics.reduced import (
     constraint_forces,
@@ -44,6 +45,7 @@ from mobman.dynamics.reduced import (
     reduced_mass_matrix,
 )
 from mobman.dynamics.simulation import SimulationResult, simulate, zero_torque
+from mobman.model.inertial import Payload, PlatformBody, Wheel  # plain data, re-exported here
 
 
 def yamamoto_model(payload: Payload | None = None, gravity=(0.0, 0.0, 0.0)) -> DynamicModel:

@@ -41,8 +41,9 @@ from mobman.batching import blocked
 from mobman.dynamics import equations as eq
 from mobman.dynamics import reduced
 from mobman.dynamics.actuators import Actuator, actuator_list, envelope_coefficients
-from mobman.dynamics.inertia import DynamicModel, Payload
+from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError, ModelError
+from mobman.model.inertial import Payload
 
 ZERO_TOLERANCE = 1e-9
 """Relative size below which an entry of τ1 counts as zero, and by which m = 0 may exceed an envelope."""

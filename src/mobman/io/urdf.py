@@ -15,9 +15,9 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
 - **Inertials.** Each arm joint carries the lumped inertial of the link it moves (with everything rigidly
   attached), in the joint frame after its motion: total mass, centre of mass, inertia about it by the
   parallel-axis theorem. The platform body (base link and all that hangs from it, wheels included) becomes a
-  :class:`mobman.dynamics.PlatformBody`; only its mass, centre of mass and inertia about the vertical enter
+  :class:`mobman.model.inertial.PlatformBody`; only its mass, centre of mass and inertia about the vertical enter
   the planar motion of the platform. The wheels' spin inertia about their axle (a_wᵀ I a_w, the same for both
-  wheels up to 1e-12, else the mean) becomes :class:`mobman.dynamics.Wheel` ``(0, I_w, 0)``: the wheels' mass
+  wheels up to 1e-12, else the mean) becomes :class:`mobman.model.inertial.Wheel` ``(0, I_w, 0)``: the wheels' mass
   and their inertia about the vertical are already in the body.
 - **Platform.** ``platform="auto"`` (or ``"differential"``) looks for two ``continuous`` joints off the chains
   with a common horizontal axle (parallel axes along the line joining the joint origins, perpendicular to the
@@ -48,8 +48,8 @@ Every built-in robot writes to a URDF that reads back to the same ξ, J̄ and M:
 with cylinder collisions of radius r and the per-wheel speed limit, for a car a steering joint and its front
 wheel (read back with ``platform="car"``); each arm's mount and joint offsets folded into the joint origins.
 An arm with a coupling (motion = C q_a, which URDF cannot state) is written in its motion variables: the URDF's
-coordinates are C q_a. Given a :class:`mobman.dynamics.DynamicModel`, the platform body and the wheels are
-written as link inertials too.
+coordinates are C q_a. Given a platform body and wheels (:mod:`mobman.model.inertial`), they are written as
+link inertials too.
 """
 
 from __future__ import annotations
@@ -59,19 +59,17 @@ import os
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Mapping, Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
+from mobman.model.inertial import PlatformBody, Wheel
 from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional, Platform
-from mobman.model.robot import MobileManipulator
+from mobman.model.robot import MobileManipulator, actuator_names
 from mobman.model.visual import Visual
-
-if TYPE_CHECKING:
-    from mobman.dynamics.inertia import DynamicModel, PlatformBody, Wheel
 
 PLATFORMS = ("auto", "differential", "car", "omnidirectional")
 _MOVING = ("revolute", "continuous", "prismatic")
@@ -136,27 +134,18 @@ class UrdfModel:
 
     ``body`` (the platform with everything off the chains, wheels included) and ``wheel`` (spin inertia) are
     None where the URDF has no inertials; ``effort_limits``: the actuators' effort limits in the order of
-    :func:`mobman.dynamics.inertia.actuator_names` (wheels, then joints; None where the URDF gives none).
+    :func:`mobman.model.robot.actuator_names` (wheels, then joints; None where the URDF gives none).
+    :meth:`mobman.dynamics.DynamicModel.from_urdf` makes the dynamic model.
     """
 
     robot: MobileManipulator
     summary: UrdfSummary
-    body: "PlatformBody | None" = None
-    wheel: "Wheel | None" = None
+    body: PlatformBody | None = None
+    wheel: Wheel | None = None
     effort_limits: tuple[float | None, ...] = field(default=())
-
-    def dynamic_model(self, gravity=(0.0, 0.0, -9.81)) -> "DynamicModel":
-        """The :class:`mobman.dynamics.DynamicModel` of the robot (ModelError where an inertial is missing)."""
-        from mobman.dynamics.inertia import DynamicModel
-
-        if self.body is None:
-            raise ModelError(f"{self.robot.name}: the URDF gives no inertial for the platform body")
-        return DynamicModel(self.robot, self.body, self.wheel, None, gravity)
 
     def torque_limits(self) -> np.ndarray:
         """τ_max of every actuator from the URDF's effort limits (ModelError naming one that is missing)."""
-        from mobman.dynamics.inertia import actuator_names
-
         missing = [n for n, v in zip(actuator_names(self.robot), self.effort_limits) if v is None]
         if missing:
             raise ModelError(f"{self.robot.name}: the URDF gives no effort limit for {', '.join(missing)}")
@@ -691,8 +680,6 @@ def _car(tree, passive, groups, poses, base_pose, offset, wheel_pair) -> CarLike
 
 
 def _platform_inertials(tree, links, platform_pose, poses, wheel_pair):
-    from mobman.dynamics.inertia import PlatformBody, Wheel
-
     lumped = _lump(_inertial_parts(tree, links, platform_pose, poses))
     if lumped is None or lumped[0] <= 0:
         return None, None
@@ -763,7 +750,7 @@ def _u_visuals(visuals: Sequence[Visual]) -> list:
     return shapes
 
 
-def _wheel(name: str, parent: str, xyz, radius: float, speed, wheel: "Wheel | None"):
+def _wheel(name: str, parent: str, xyz, radius: float, speed, wheel: Wheel | None):
     """A continuous wheel joint turning about the platform's y axis, with its link (cylinder collision)."""
     from yourdfpy import Collision, Cylinder, Geometry, Limit, Link
     from yourdfpy import Joint as UJoint
@@ -832,8 +819,11 @@ def _limit_value(value: float):
     return None if not math.isfinite(value) else float(value)
 
 
-def write_urdf(robot: "MobileManipulator | DynamicModel", path) -> Path:
-    """Write a robot (or a :class:`mobman.dynamics.DynamicModel`, with its platform body and wheels) as URDF.
+def write_urdf(
+    robot: MobileManipulator, path, body: PlatformBody | None = None, wheel: Wheel | None = None
+) -> Path:
+    """Write a robot as URDF, with its platform ``body`` and driving ``wheel`` inertials where given (those of
+    a :class:`mobman.dynamics.DynamicModel`: ``write_urdf(model.robot, path, model.body, model.wheel)``).
 
     The platform link is ``base_footprint``; arm ``i``'s joints keep their names (prefixed by the arm's name
     when there are several arms) and end in the fixed joint to ``<prefix>tool_link``. Read it back with
@@ -843,11 +833,8 @@ def write_urdf(robot: "MobileManipulator | DynamicModel", path) -> Path:
     from yourdfpy import URDF, Inertial, Limit, Link, Robot
     from yourdfpy import Joint as UJoint
 
-    from mobman.dynamics.inertia import DynamicModel
-
-    body = wheel = None
-    if isinstance(robot, DynamicModel):
-        body, wheel, robot = robot.body, robot.wheel, robot.robot
+    if not isinstance(robot, MobileManipulator):
+        raise ModelError(f"write_urdf: robot must be a MobileManipulator, got {type(robot).__name__}")
     links, joints = _platform_urdf(robot, body, wheel)
     for i, (arm, mount) in enumerate(zip(robot.arms, robot.mounts)):
         prefix = _arm_prefix(robot, i)

@@ -21,7 +21,7 @@ import numpy as np
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, LinkInertial
-from mobman.model.platform import Platform
+from mobman.model.platform import DifferentialDrive, Platform
 from mobman.model.spatial import Transform
 from mobman.model.visual import Visual
 
@@ -354,3 +354,13 @@ class MobileManipulator:
             "M": self.n_q,
             "delta": self.n_eta,
         }
+
+
+def actuator_names(robot: MobileManipulator) -> tuple[str, ...]:
+    """The actuators of a robot in τ order: both wheels of a differential drive (or one per platform
+    quasi-velocity), then the arm joints."""
+    if isinstance(robot.platform, DifferentialDrive):
+        platform = ("wheel_right", "wheel_left")
+    else:
+        platform = tuple(f"platform_{n}" for n in robot.platform.control_names)
+    return platform + tuple(robot.coordinate_names[robot.n_platform :])

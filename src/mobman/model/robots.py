@@ -3,12 +3,14 @@ differential-drive base, and the real robots.
 
 Where a paper gives no value, the default is a documented choice (see ``docs/kinematics.md``). Each robot
 carries its paper's operational task. On the command line the names use hyphens (``bayle-planar``). The real
-robots (TIAGo, TIAGo dual, Stretch) are read from their URDF files: :mod:`mobman.model.real_robots`.
+robots (TIAGo, TIAGo dual, Stretch) are read from their URDF files by :mod:`mobman.io.real_robots`, which
+registers them here (:func:`register`) when :mod:`mobman.io` is imported.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from typing import Callable
 
 import jax.numpy as jnp
@@ -18,7 +20,6 @@ from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platform import CarLike, DifferentialDrive
-from mobman.model.real_robots import FACTORIES
 from mobman.model.robot import MobileManipulator, Mount
 from mobman.model.task import Elevation, PlanarAngle, Pose, Position, stack
 
@@ -272,20 +273,36 @@ PAPER_ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
     "yamamoto-dual-arm": yamamoto_dual_arm,
 }
 
-# the papers' robots, the Panda on a differential base, then the real robots read from their URDF files
-# (mobman[robots]; model/real_robots.py)
+# the papers' robots, the Panda on a differential base, then those added by register(): the real robots read
+# from their URDF files (mobman[robots]; io/real_robots.py, registered when mobman.io is imported)
 ROBOTS: dict[str, Callable[..., MobileManipulator]] = {
     **PAPER_ROBOTS,
     "panda-differential": panda_differential,
-    **FACTORIES,
 }
+
+
+def register(name: str, factory: Callable[..., MobileManipulator]) -> None:
+    """Add a robot to :data:`ROBOTS` (and so to :func:`build`, the command line and robot files) under its
+    command-line ``name`` (lower case, words joined by ``-``); ``factory`` builds it, its keyword parameters
+    being the robot's parameters. Registering the same factory again is a no-op; a name already taken by
+    another factory is a ModelError."""
+    if not isinstance(name, str) or not name or name != name.lower() or "_" in name or " " in name:
+        raise ModelError(
+            f"register: name must be a lower-case command-line name (words joined by -), got {name!r}"
+        )
+    if not callable(factory):
+        raise ModelError(f"register: factory of {name!r} must be callable, got {type(factory).__name__}")
+    if ROBOTS.get(name, factory) is not factory:
+        raise ModelError(f"register: the robot name {name!r} is taken")
+    ROBOTS[name] = factory
 
 
 def build(name: str, **params: float) -> MobileManipulator:
     """A built-in robot by its command-line name, with keyword parameters; clear errors otherwise."""
     key = name.replace("_", "-")
     if key not in ROBOTS:
-        raise ModelError(f"unknown robot {name!r}; built-in robots: {', '.join(ROBOTS)}")
+        hint = "" if "mobman.io" in sys.modules else " (import mobman.io to add the real robots: tiago, …)"
+        raise ModelError(f"unknown robot {name!r}; built-in robots: {', '.join(ROBOTS)}{hint}")
     factory = ROBOTS[key]
     import inspect
 

@@ -4,7 +4,9 @@ Hello Robot Stretch.
 The files come with the optional extra ``mobman[robots]``: TIAGo's from ``example-robot-data`` (Pinocchio's
 robot collection), Stretch's from ``hello-robot-stretch-urdf``. They are located through the installed
 distributions' metadata (:mod:`importlib.metadata`), read once per process by :func:`mobman.io.urdf.read_urdf`
-(wheel pair, radius, track, limits, inertials, visuals) and cached; the robots are immutable.
+(wheel pair, radius, track, limits, inertials, visuals) and cached; the robots are immutable. Importing this
+module (done by importing :mod:`mobman.io`) registers them in :data:`mobman.model.robots.ROBOTS` under the names
+below; it reads no file and does not import yourdfpy: a robot's URDF is read when the robot is first built.
 
 Modelling choices:
 
@@ -30,6 +32,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from mobman.errors import ModelError
+from mobman.model import robots
 from mobman.model.robot import MobileManipulator
 
 if TYPE_CHECKING:
@@ -115,5 +118,7 @@ def stretch() -> MobileManipulator:
 
 
 FACTORIES = {"tiago": tiago, "tiago-dual": tiago_dual, "stretch": stretch}
+for _name, _factory in FACTORIES.items():
+    robots.register(_name, _factory)
 
 __all__ = ["EXTRA", "FACTORIES", "REAL_ROBOTS", "RealRobot", "stretch", "tiago", "tiago_dual", "urdf_model"]
