@@ -9,6 +9,8 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
+# The real robots (TIAGo, TIAGo dual, Stretch) join the built-in robots; their URDF files are read when first built.
+import mobman.io.real_robots  # noqa: E402,F401
 from mobman.errors import (  # noqa: E402
     ConvergenceError,
     InfeasibleTaskError,

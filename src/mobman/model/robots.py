@@ -10,7 +10,6 @@ registers them here (:func:`register`) when :mod:`mobman.io` is imported.
 from __future__ import annotations
 
 import math
-import sys
 from typing import Callable
 
 import jax.numpy as jnp
@@ -301,8 +300,7 @@ def build(name: str, **params: float) -> MobileManipulator:
     """A built-in robot by its command-line name, with keyword parameters; clear errors otherwise."""
     key = name.replace("_", "-")
     if key not in ROBOTS:
-        hint = "" if "mobman.io" in sys.modules else " (import mobman.io to add the real robots: tiago, …)"
-        raise ModelError(f"unknown robot {name!r}; built-in robots: {', '.join(ROBOTS)}{hint}")
+        raise ModelError(f"unknown robot {name!r}; built-in robots: {', '.join(ROBOTS)}")
     factory = ROBOTS[key]
     import inspect
 
