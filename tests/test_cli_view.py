@@ -71,6 +71,17 @@ def test_screenshot_of_a_paper_robot(artifacts, robot_pixels, capsys):
     assert robot_pixels(png.read_bytes()).sum() > 300  # the links are drawn
 
 
+def test_screenshot_of_tiago_draws_its_meshes(artifacts, robot_pixels, capsys):
+    """TIAGo from its URDF: the meshes' dark arm and hand and the base's orange ring are drawn (the scene left
+    of the side panel; an empty scene has neither)."""
+    png = artifacts / "view_tiago.png"
+    main(["view", "tiago", "--port", "0", "--screenshot", str(png)])
+    assert f"screenshot: {png}" in capsys.readouterr().out
+    scene = np.asarray(Image.open(png).convert("RGB"), dtype=float)[:, :900]
+    assert (scene.max(axis=-1) < 60).sum() > 1000  # the black arm links and hand
+    assert robot_pixels(png.read_bytes())[:, :900].sum() > 300  # the orange ring of the PMB2 base
+
+
 def test_serves_on_loopback_and_prints_its_url(monkeypatch, capsys):
     import urllib.request
 
