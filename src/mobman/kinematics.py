@@ -8,6 +8,7 @@ robot and the task as static arguments, so a second call with the same shapes do
 - :func:`jacobian` J = ∂f/∂q (geometric for position/orientation tasks, autodiff otherwise)
 - :func:`S`, :func:`constraints` the admissible-velocity basis and the nonholonomic constraints
 - :func:`reduced_jacobian` J̄ = J S (Bayle eq. 2)
+- :func:`representation_singular` where the task's coordinates are singular as a representation
 - :func:`inverse_velocity` η = J̄# ξ̇ + (I − J̄# J̄) z, q̇ = S η (Bayle §4.3)
 - :func:`is_consistent` rank[J̄ | ξ̇] = rank J̄
 """
@@ -48,6 +49,10 @@ def _reduced_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.nd
     return robot.apply_S(_jacobian_one(robot, task, q), q)
 
 
+def _representation_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+    return task.representation_singular(robot, q, robot.frames(q))
+
+
 # --- public batched API ----------------------------------------------------------------------------
 
 
@@ -67,6 +72,12 @@ def _jacobian(robot, q, task):
 @partial(jax.jit, static_argnums=(0, 2))
 def _reduced_jacobian(robot, q, task):
     return blocked(partial(_reduced_one, robot, task))(q)
+
+
+@across_cores({1: 1})
+@partial(jax.jit, static_argnums=(0, 2))
+def _representation(robot, q, task):
+    return blocked(partial(_representation_one, robot, task))(q)
 
 
 @across_cores({1: 1})
@@ -106,6 +117,14 @@ def jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarr
 def reduced_jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
     """Reduced Jacobian J̄(q) = J(q) S(q), shape (..., m, n_eta): ξ̇ = J̄ η (Bayle eq. 2)."""
     return _reduced_jacobian(robot, _q(robot, q), _task(robot, task))
+
+
+def representation_singular(robot: MobileManipulator, q, task: Task | None = None) -> np.ndarray:
+    """True where the task's coordinates are singular as a representation (the heading of a vertical axis,
+    an Euler set's gimbal lock; :mod:`mobman.model.task`), boolean, shape (...). There ξ is not a chart of the
+    frame and J, J̄ may be unbounded or NaN; kinematic and velocity singularities (KSC, VSC) are another
+    matter, a property of the robot."""
+    return np.asarray(_representation(robot, _q(robot, q), _task(robot, task)), dtype=bool)
 
 
 def S(robot: MobileManipulator, q) -> jnp.ndarray:

@@ -75,7 +75,9 @@ def bayle_rrp() -> MobileManipulator:
     """HILARE-like platform + RRP arm (Bayle §5.2), M = 6; ξ = EE position, heading ϑ + q4, elevation q5.
 
     Joint 4 turns about the vertical, joint 5 lifts the arm, joint 6 slides along it; the base of the arm
-    is at the axle midpoint, as in the paper's direct kinematics.
+    is at the axle midpoint, as in the paper's direct kinematics. The two angles are read about the lift
+    axis (the tool frame's y axis, always horizontal): ξ4 = ϑ + q4 and ξ5 = q5 over the whole turn of q5,
+    through the vertical and past it (no representation singularity).
     """
     arm = Arm(
         (
@@ -88,7 +90,7 @@ def bayle_rrp() -> MobileManipulator:
     return MobileManipulator(
         DifferentialDrive(v_max=0.5, omega_max=1.0),
         (arm,),
-        task=stack(Position("xyz"), PlanarAngle(), Elevation()),
+        task=stack(Position("xyz"), PlanarAngle("ZXY"), Elevation()),
         name="bayle-rrp",
     )
 
