@@ -104,6 +104,21 @@ def _q(robot: MobileManipulator, q):
     return robot.validate_q(q)
 
 
+def _vector(x, name: str, size: int) -> np.ndarray:
+    """A finite float array (..., size), or InputError naming ``name``."""
+    if isinstance(x, jax.core.Tracer):
+        return x
+    try:
+        arr = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: expected numbers, shape (..., {size}), got {type(x).__name__}") from None
+    if arr.ndim < 1 or arr.shape[-1] != size:
+        raise InputError(f"{name}: expected shape (..., {size}), got {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise InputError(f"{name}: every component must be finite")
+    return arr
+
+
 def forward(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
     """Operational coordinates ξ = f(q), shape (..., m)."""
     return _forward(robot, _q(robot, q), _task(robot, task))
@@ -164,14 +179,12 @@ def inverse_velocity(
     """
     task = _task(robot, task)
     q = _q(robot, q)
-    xi_dot = jnp.asarray(xi_dot, dtype=float)
-    if xi_dot.shape[-1] != task.dim:
-        raise InputError(f"xi_dot has {xi_dot.shape[-1]} components, the task {task.names} has {task.dim}")
+    xi_dot = jnp.asarray(_vector(xi_dot, "xi_dot", task.dim))
     jbar = _reduced_jacobian(robot, q, task)
     jsharp = inverse(jbar)
     eta = jnp.einsum("...ij,...j->...i", jsharp, xi_dot)
     if z is not None:
-        z = jnp.asarray(z, dtype=float)
+        z = jnp.asarray(_vector(z, "z", robot.n_eta))
         projector = jnp.eye(robot.n_eta) - jsharp @ jbar
         eta = eta + jnp.einsum("...ij,...j->...i", projector, z)
     q_dot = jnp.einsum("...ij,...j->...i", _S(robot, q), eta)
@@ -179,8 +192,16 @@ def inverse_velocity(
 
 
 def rank(a, rtol: float = 1e-9) -> np.ndarray:
-    """Numerical rank of (batched) matrices: singular values above rtol · σmax (absolute floor 1e-12)."""
-    s = np.linalg.svd(np.asarray(a), compute_uv=False)
+    """Numerical rank of (batched) matrices: singular values above rtol · σmax (absolute floor 1e-12).
+    InputError for NaN or infinite entries (their rank is undefined)."""
+    a = np.asarray(a, dtype=float)
+    if a.ndim < 2:
+        raise InputError(f"rank: expected matrices of shape (..., m, k), got shape {a.shape}")
+    if not np.isfinite(a).all():
+        bad = np.argwhere(~np.isfinite(a).all(axis=(-2, -1)))
+        where = f" at batch index {tuple(int(i) for i in bad[0])}" if bad.size else ""
+        raise InputError(f"rank: the matrix holds NaN or infinite entries{where}")
+    s = np.linalg.svd(a, compute_uv=False)
     smax = s[..., :1] if s.shape[-1] else np.zeros(s.shape[:-1] + (1,))
     return np.sum(s > np.maximum(rtol * smax, 1e-12), axis=-1)
 
@@ -189,7 +210,12 @@ def is_consistent(robot: MobileManipulator, q, xi_dot, task: Task | None = None,
     """Consistency of the reduced kinematics: rank[J̄ | ξ̇] = rank J̄ (Bayle §4.3), batched."""
     task = _task(robot, task)
     jbar = np.asarray(reduced_jacobian(robot, q, task))
-    xi_dot = np.asarray(xi_dot, dtype=float)
-    xi_dot = np.broadcast_to(xi_dot, jbar.shape[:-1])
+    xi_dot = _vector(xi_dot, "xi_dot", task.dim)
+    try:
+        xi_dot = np.broadcast_to(xi_dot, jbar.shape[:-1])
+    except ValueError:
+        raise InputError(
+            f"xi_dot of shape {xi_dot.shape} does not match the configurations' batch shape {jbar.shape[:-2]}"
+        ) from None
     augmented = np.concatenate([jbar, xi_dot[..., None]], axis=-1)
     return rank(augmented, rtol) == rank(jbar, rtol)

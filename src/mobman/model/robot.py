@@ -183,6 +183,13 @@ class MobileManipulator:
             lim for a in self.arms for lim in a.position_limits
         )
 
+    def limit_violations(self, q) -> np.ndarray:
+        """Which coordinates of configurations q (..., n_q) lie outside :attr:`position_limits` (a joint's
+        [lower, upper]), boolean (..., n_q); ``.any(-1)`` flags each configuration."""
+        q = self.validate_q(q)
+        lower, upper = np.array(self.position_limits, dtype=float).T
+        return (q < lower) | (q > upper)
+
     def with_task(self, task: "Task") -> "MobileManipulator":
         """The same robot with another operational task."""
         return replace(self, task=task)
