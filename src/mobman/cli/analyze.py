@@ -117,7 +117,9 @@ def analysis(robot: MobileManipulator, q: np.ndarray, outside: list[list[str]] |
     finite = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
     regular = iter(_regular_quantities(robot, q[finite], jbar[finite]) if finite.any() else ())
     if outside is None:
-        outside = [[robot.coordinate_names[i] for i in np.flatnonzero(row)] for row in robot.limit_violations(q)]
+        outside = [
+            [robot.coordinate_names[i] for i in np.flatnonzero(row)] for row in robot.limit_violations(q)
+        ]
     results = []
     for k in range(q.shape[0]):
         results.append(
@@ -219,7 +221,9 @@ def _print(result: dict, sym: dict | None) -> None:
         table.add_row("J̄", _fmt(r["J_bar"]))
         table.add_row("representation singular", str(r["representation_singular"]))
         if r["rank_J"] is None:
-            table.add_row("rank, singular values, KSC, VSC", "undefined (J̄ not finite: representation singular)")
+            table.add_row(
+                "rank, singular values, KSC, VSC", "undefined (J̄ not finite: representation singular)"
+            )
             console.print(table)
             continue
         table.add_row("rank J, rank J̄", f"{r['rank_J']}, {r['rank_J_bar']}")

@@ -23,8 +23,8 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from mobman.cli import app
 from mobman import kinematics as K
+from mobman.cli import app
 from mobman.cli.common import load_robot, parse_vector
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.dynamics import DynamicModel, yamamoto_platform

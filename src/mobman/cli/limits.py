@@ -25,7 +25,9 @@ def outside_limits(robot: MobileManipulator, q: np.ndarray, field: str, strict: 
         if not bad:
             continue
         label = field if len(violations) == 1 else f"{field}, configuration {k + 1}"
-        detail = ", ".join(f"{names[i]} = {q[k, i]:g} outside [{limits[i][0]:g}, {limits[i][1]:g}]" for i in bad)
+        detail = ", ".join(
+            f"{names[i]} = {q[k, i]:g} outside [{limits[i][0]:g}, {limits[i][1]:g}]" for i in bad
+        )
         if strict:
             raise InputError(f"{label}: {detail} (the robot's joint limits)")
         typer.echo(f"warning: {label}: {detail} (the robot's joint limits); analysed as given", err=True)

@@ -421,7 +421,9 @@ def _paper(terms: _Terms, tau_max: np.ndarray):
     """Eq. 31–38: τ = Λ_o a_o + μ_o with u̇ = J⁺(Wᵀ a_o − drift), h = W⁺(M_o a_o + c_o + g_o)."""
     j_plus, w_plus = np.linalg.pinv(terms.j), np.linalg.pinv(terms.w)
     lam = _solve(
-        terms.q, terms.p @ j_plus @ _t(terms.w) + _t(terms.j) @ w_plus @ terms.m_o, "the input matrix Q is singular"
+        terms.q,
+        terms.p @ j_plus @ _t(terms.w) + _t(terms.j) @ w_plus @ terms.m_o,
+        "the input matrix Q is singular",
     )  # eq. 34
     mu_rhs = terms.b - _mv(terms.p @ j_plus, terms.drift) + _mv(_t(terms.j) @ w_plus, terms.bias_o)
     mu = _solve(terms.q, mu_rhs[..., None], "the input matrix Q is singular")[..., 0]  # eq. 35, corrected
@@ -493,7 +495,9 @@ def dynamic_terms(
     _finite_matrix(terms.j, "dynamic ellipsoid")
     for name, value in (("reduced mass matrix P", terms.p), ("velocity and gravity terms", terms.b)):
         if not np.isfinite(value).all():
-            raise SingularConfigurationError(f"dynamic ellipsoid: the {name} is not finite (check the inertials)")
+            raise SingularConfigurationError(
+                f"dynamic ellipsoid: the {name} is not finite (check the inertials)"
+            )
     p = terms.p if interaction else terms.p * _interaction_mask(robot)
     keep = np.arange(robot.platform.n_eta if platform_fixed else 0, robot.n_eta)
     return _Terms(

@@ -38,7 +38,9 @@ def _offsets(offsets) -> jnp.ndarray:
         if not np.isfinite(r).all():
             raise InputError("grasp offsets: every component must be finite")
     if r.ndim < 2 or r.shape[-1] not in (2, 3) or r.shape[-2] == 0:
-        raise InputError(f"grasp offsets: expected shape (..., k, 2) or (..., k, 3) with k ≥ 1, got {r.shape}")
+        raise InputError(
+            f"grasp offsets: expected shape (..., k, 2) or (..., k, 3) with k ≥ 1, got {r.shape}"
+        )
     return jnp.asarray(r)
 
 
@@ -96,7 +98,9 @@ def internal_force_basis(w: jnp.ndarray) -> jnp.ndarray:
     if not isinstance(w, jax.core.Tracer):
         w = np.asarray(w, dtype=float)
         if w.ndim < 2 or w.shape[-2] > w.shape[-1] or not np.isfinite(w).all():
-            raise InputError(f"internal_force_basis: W must be a finite (..., m, n) matrix with m ≤ n, got {w.shape}")
+            raise InputError(
+                f"internal_force_basis: W must be a finite (..., m, n) matrix with m ≤ n, got {w.shape}"
+            )
     _, _, vt = jnp.linalg.svd(w, full_matrices=True)
     return jnp.swapaxes(vt[..., w.shape[-2] :, :], -1, -2)
 
