@@ -194,7 +194,10 @@ def inverse_velocity(
 def rank(a, rtol: float = 1e-9) -> np.ndarray:
     """Numerical rank of (batched) matrices: singular values above rtol · σmax (absolute floor 1e-12).
     InputError for NaN or infinite entries (their rank is undefined)."""
-    a = np.asarray(a, dtype=float)
+    try:
+        a = np.asarray(a, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"rank: expected an array of numbers, got {type(a).__name__}") from None
     if a.ndim < 2:
         raise InputError(f"rank: expected matrices of shape (..., m, k), got shape {a.shape}")
     if not np.isfinite(a).all():

@@ -115,9 +115,15 @@ def _as_jacobian(j) -> jnp.ndarray:
     if isinstance(j, jax.core.Tracer):
         return j
     # a float64 jax.Array passes as it is: a converted copy would leave jit's fast dispatch path (~35 µs)
-    arr = j if isinstance(j, jax.Array) and j.dtype == jnp.float64 else jnp.asarray(j, dtype=float)
-    if arr.ndim < 2:
-        raise InputError(f"a Jacobian must have shape (..., m, k), got shape {arr.shape}")
+    if isinstance(j, jax.Array) and j.dtype == jnp.float64:
+        arr = j
+    else:
+        try:
+            arr = jnp.asarray(np.asarray(j, dtype=float))
+        except (TypeError, ValueError):
+            raise InputError(f"a Jacobian must be an array of numbers, got {type(j).__name__}") from None
+    if arr.ndim < 2 or 0 in arr.shape[-2:]:
+        raise InputError(f"a Jacobian must have shape (..., m, k) with m, k ≥ 1, got shape {arr.shape}")
     if not bool(_all_finite(arr)):
         bad = np.argwhere(~np.isfinite(np.asarray(arr)).all(axis=(-2, -1)))
         where = f" at batch index {tuple(int(i) for i in bad[0])}" if bad.size else ""
@@ -231,6 +237,13 @@ def _resolve_rank(robot, task, which: str, rank: Rank) -> int | None:
         return rank
     m = (task or robot.task).dim
     r = admissible_ranks(robot, task)[which]
+    if r == 0:
+        moved_by = "the arm's joints" if which == "arm" else "any quasi-velocity"
+        raise ModelError(
+            f"{robot.name}: the {which} Jacobian is zero at every sampled configuration: the task "
+            f"({', '.join((task or robot.task).names)}) does not move with {moved_by} (links of zero length?), "
+            "so its measures are undefined"
+        )
     return r if r < m else None
 
 

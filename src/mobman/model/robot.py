@@ -211,7 +211,13 @@ class MobileManipulator:
 
     def validate_q(self, q) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values. Returns float64 NumPy."""
-        arr = np.asarray(q, dtype=float)
+        try:
+            arr = np.asarray(q, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(
+                f"{self.name}: a configuration is {self.n_q} numbers ({', '.join(self.coordinate_names)}) or a "
+                f"batch of them, got {type(q).__name__} {str(q)[:40]!r}"
+            ) from None
         self._check_q(arr.shape, lambda: _all_finite_host(arr))
         return arr
 

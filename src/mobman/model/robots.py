@@ -24,8 +24,15 @@ _LIFT = (0.0, -1.0, 0.0)  # rotating about −y lifts the x axis: positive angle
 
 
 def _check_lengths(owner: str, **lengths: float) -> None:
+    """Link lengths, wheel radii, track widths: finite and > 0."""
     for name, value in lengths.items():
-        checks.positive(value, name, owner)
+        checks.positive(value, f"{name} (a length)", owner)
+
+
+def _check_offsets(owner: str, **offsets: float) -> None:
+    """Offsets along a link or of a mount: finite and ≥ 0 (0 is a valid geometry)."""
+    for name, value in offsets.items():
+        checks.non_negative(value, f"{name} (an offset)", owner)
 
 
 def _check_finite(owner: str, **values: float) -> None:
@@ -102,12 +109,13 @@ def manus_platform(
 
     Arm coordinates are the paper's: q_a1 about the vertical, q_a2 and q_a3 the *absolute* elevation angles
     of the upper arm and forearm (the Manus has a parallelogram linkage), modelled with a coupling matrix.
-    L2 is the shoulder's lateral offset (0.12 m: the paper's retracted point (0, 0.12, 0)); L3 = L4 =
+    L2 ≥ 0 is the shoulder's lateral offset (0.12 m: the paper's retracted point (0, 0.12, 0)); L3 = L4 =
     0.35 m are a choice (the paper gives none). The arm base is at (a, b, c) in the platform frame: the
     paper's simulations state (0.12, 0.12, 0.4) m while §4.1 uses a = b = 0. Velocity limits are the
     paper's u_max = (0.33 m/s, 0.55 rad/s, π/3, π/3, π/3 rad/s).
     """
-    _check_lengths("manus_platform", L2=L2, L3=L3, L4=L4)
+    _check_offsets("manus_platform", L2=L2)
+    _check_lengths("manus_platform", L3=L3, L4=L4)
     _check_finite("manus_platform", a=a, b=b, c=c)
     w = math.pi / 3
     arm = Arm(
@@ -131,13 +139,14 @@ def manus_platform(
 
 
 def korayem_planar(l0: float = 0.4, l1: float = 0.5, l2: float = 0.5) -> MobileManipulator:
-    """Differential platform + planar 2R arm mounted at F, l0 ahead of the axle (Korayem eq. 20–25).
+    """Differential platform + planar 2R arm mounted at F, l0 ≥ 0 ahead of the axle (Korayem eq. 20–25).
 
     ξ = (x_e, y_e). Korayem's generalized coordinates are those of F; here q_p is the axle midpoint, a
     change of coordinates with unit Jacobian determinant, so the augmented-Jacobian determinants agree.
     Wheel radius 0.1 m and half-track 0.25 m are a choice (not in the seed text).
     """
-    _check_lengths("korayem_planar", l0=l0, l1=l1, l2=l2)
+    _check_offsets("korayem_planar", l0=l0)
+    _check_lengths("korayem_planar", l1=l1, l2=l2)
     arm = planar_arm((l1, l2), names=("theta1", "theta2"), velocity_max=(3.5, 3.5))
     return MobileManipulator(
         DifferentialDrive(wheel_radius=0.1, half_track=0.25, wheel_speed_max=3.5),
