@@ -152,3 +152,40 @@ def test_nan_jacobian_measures_are_an_error_not_zero():
         mp.measures(j)
     with pytest.raises(MobmanError, match="NaN"):
         K.rank(j)
+
+
+def test_limit_violations_name_the_coordinates_outside_the_joint_limits():
+    q = np.array([[0, 0, 0, 0.2, 0.5, -0.5], [0, 0, 0, 0.2, 0.5, 0.0], [9, 9, 9, 9, 9, 9]])
+    np.testing.assert_array_equal(ROBOT.limit_violations(q), [[0, 0, 0, 0, 0, 1], [0] * 6, [0] * 6])
+    with pytest.raises(MobmanError):
+        ROBOT.limit_violations(np.zeros(5))
+
+
+def test_a_jacobian_that_never_moves_names_the_cause_not_a_rank_range():
+    from mobman.model import Arm, DifferentialDrive, MobileManipulator, Position
+
+    arm = Arm.from_dh([(0, 0, 0, 0), (0, 0, 0, 0)])  # zero-length links: the tool point never moves
+    robot = MobileManipulator(DifferentialDrive(), (arm,), task=Position("xy"))
+    with pytest.raises(MobmanError, match="arm Jacobian is zero.*does not move with the arm's joints"):
+        mp.analyze(robot, np.full(robot.n_q, 0.3), rank="auto")
+
+
+def test_an_alpha_coordinate_out_of_range_is_an_error_never_clamped():
+    from mobman.control.criteria import CubicTransition
+
+    with pytest.raises(MobmanError, match="coordinate 99 out of range"):
+        CubicTransition(0.0, 1.0, coordinate=99)(np.zeros(3))
+    with pytest.raises(MobmanError, match="coordinate must be an index"):
+        CubicTransition(0.0, 1.0, coordinate=-1)
+    assert float(CubicTransition(0.0, 1.0, coordinate=2)(np.array([0.0, 0.0, 0.5]))) == pytest.approx(0.5)
+
+
+def test_a_singular_closed_chain_is_a_singular_configuration_error():
+    from mobman.dynamics.ellipsoids import dynamic_ellipsoid
+    from mobman.dynamics.grasp import HeldObject
+    from mobman.errors import SingularConfigurationError
+    from mobman.experiments.yamamoto1999 import torque_limits
+
+    stretched = np.zeros(9)  # both arms stretched: their Jacobians lose rank
+    with pytest.raises(SingularConfigurationError, match="closed-chain equations"):
+        dynamic_ellipsoid(MODEL, stretched, torque_limits(MODEL.robot), obj=HeldObject(2.0), method="exact")
