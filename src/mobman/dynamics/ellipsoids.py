@@ -79,6 +79,11 @@ class Ellipsoid:
     names: tuple[str, ...]
     feasible: np.ndarray
 
+    def __post_init__(self) -> None:
+        for name in ("center", "matrix"):
+            if not np.isfinite(getattr(self, name)).all():
+                raise InputError(f"Ellipsoid: {name} must be finite (NaN or infinite entries)")
+
     @property
     def shape_matrix(self) -> np.ndarray:
         """Σ = K Kᵀ: E = {x : (x − c)ᵀ Σ⁻¹ (x − c) ≤ 1} when Σ is invertible."""
@@ -130,9 +135,10 @@ class Ellipsoid:
         s_ts = sigma[..., keep, :][..., :, fixed]
         s_ss = sigma[..., fixed, :][..., :, fixed]
         d = at - self.center[..., fixed]
-        gain = np.swapaxes(np.linalg.solve(s_ss, np.swapaxes(s_ts, -1, -2)), -1, -2)  # Σ_ts Σ_ss⁻¹
+        flat = "Ellipsoid.section: the block Σ_ss of the fixed coordinates is singular (a flat ellipsoid)"
+        gain = np.swapaxes(_solve(s_ss, np.swapaxes(s_ts, -1, -2), flat), -1, -2)  # Σ_ts Σ_ss⁻¹
         center = self.center[..., keep] + np.einsum("...ij,...j->...i", gain, d)
-        rho2 = 1.0 - np.einsum("...i,...i->...", d, np.linalg.solve(s_ss, d[..., None])[..., 0])
+        rho2 = 1.0 - np.einsum("...i,...i->...", d, _solve(s_ss, d[..., None], flat)[..., 0])
         cond = s_tt - gain @ np.swapaxes(s_ts, -1, -2)
         vals, vecs = np.linalg.eigh((cond + np.swapaxes(cond, -1, -2)) / 2)
         root = vecs * np.sqrt(np.clip(vals, 0.0, None))[..., None, :] @ np.swapaxes(vecs, -1, -2)
@@ -144,7 +150,8 @@ class Ellipsoid:
     def contains(self, x, tol: float = 1e-9) -> np.ndarray:
         """Whether points x (..., m) lie in E (Σ invertible), up to ``tol`` on the quadratic form."""
         d = np.asarray(x, dtype=float) - self.center
-        form = np.einsum("...i,...i->...", d, np.linalg.solve(self.shape_matrix, d[..., None])[..., 0])
+        flat = "Ellipsoid.contains: the shape matrix Σ is singular (a flat ellipsoid)"
+        form = np.einsum("...i,...i->...", d, _solve(self.shape_matrix, d[..., None], flat)[..., 0])
         return np.logical_and(self.feasible, form <= 1.0 + tol)
 
     def boundary(self, n: int = 100, keep: Sequence[int] = (0, 1)) -> np.ndarray:
@@ -381,9 +388,8 @@ def _interaction_mask(robot: MobileManipulator) -> np.ndarray:
 
 
 def _solve(a: np.ndarray, b: np.ndarray, what: str) -> np.ndarray:
-    """np.linalg.solve(a, b), batched; SingularConfigurationError naming ``what`` and the first configuration
-    where a is singular or not finite (the torques do not determine the accelerations there); ``what`` says
-    what is singular and why."""
+    """np.linalg.solve(a, b), batched; SingularConfigurationError with the message ``what`` (what is singular
+    and why) and the first configuration where a is singular or not finite."""
     finite = np.isfinite(a).all(axis=(-2, -1)) & np.isfinite(b).all(axis=(-2, -1))
     if finite.all():
         try:
@@ -393,7 +399,7 @@ def _solve(a: np.ndarray, b: np.ndarray, what: str) -> np.ndarray:
     singular = ~finite | ~np.isfinite(np.linalg.cond(np.where(finite[..., None, None], a, 0.0)))
     index = tuple(int(i) for i in np.argwhere(singular)[0]) if singular.any() else ()
     where = f" at configuration {index}" if index else ""
-    raise SingularConfigurationError(f"dynamic ellipsoid{where}: {what}")
+    raise SingularConfigurationError(f"{what}{where}")
 
 
 def _finite_matrix(matrix: np.ndarray, what: str) -> np.ndarray:
@@ -423,10 +429,12 @@ def _paper(terms: _Terms, tau_max: np.ndarray):
     lam = _solve(
         terms.q,
         terms.p @ j_plus @ _t(terms.w) + _t(terms.j) @ w_plus @ terms.m_o,
-        "the input matrix Q is singular",
+        "dynamic ellipsoid: the input matrix Q is singular",
     )  # eq. 34
     mu_rhs = terms.b - _mv(terms.p @ j_plus, terms.drift) + _mv(_t(terms.j) @ w_plus, terms.bias_o)
-    mu = _solve(terms.q, mu_rhs[..., None], "the input matrix Q is singular")[..., 0]  # eq. 35, corrected
+    mu = _solve(terms.q, mu_rhs[..., None], "dynamic ellipsoid: the input matrix Q is singular")[
+        ..., 0
+    ]  # eq. 35, corrected
     lam_bar, mu_bar = lam / tau_max[..., :, None], mu / tau_max  # eq. 36
     lam_pinv = np.linalg.pinv(lam_bar)
     outside = mu_bar - _mv(lam_bar @ lam_pinv, mu_bar)
@@ -448,7 +456,7 @@ def closed_chain_matrices(terms: _Terms) -> tuple[np.ndarray, np.ndarray]:
     rhs[..., :n, :n] = terms.q
     rhs[..., :, n] = np.concatenate([-terms.b, -terms.bias_o, -terms.drift], axis=-1)
     what = (
-        "the closed-chain equations (mass matrix, task Jacobian, grasp matrix) are singular: an arm's Jacobian "
+        "dynamic ellipsoid: the closed-chain equations (mass matrix, task Jacobian, grasp matrix) are singular: an arm's Jacobian "
         "loses rank there (stretched or folded), its hand forces are undetermined; method 'paper' uses "
         "pseudo-inverses"
     )

@@ -208,8 +208,9 @@ _HEADINGS = ("ZYX", "ZXY")
 class PlanarAngle(_OrientationTask):
     """Heading of an arm frame about the vertical: the yaw (first angle) of the Euler set ``sequence``.
 
-    ``sequence="ZYX"`` (default): the heading of the frame's x axis, atan2(R₁₀, R₀₀) (Korayem's α_e; for a
-    planar robot the sum of the platform angle and the joint angles); undefined where the x axis is vertical.
+    ``sequence="ZYX"`` (default): the heading of the frame's x axis, atan2(R₁₀, R₀₀) (Bayle's ξ3 in §5.1,
+    Korayem's α_e; for a planar robot the sum of the platform angle and the joint angles); undefined where the
+    x axis is vertical.
     ``sequence="ZXY"``: the heading of the frame's x–z plane, atan2(−R₀₁, R₁₁), undefined only where the
     y axis is vertical: for an arm that lifts about its y axis it stays ϑ + q4 through the vertical and past
     it (Bayle §5.2, ξ4 = q3 + q4). Continuous away from ±π, where it wraps.
