@@ -189,3 +189,22 @@ def test_a_singular_closed_chain_is_a_singular_configuration_error():
     stretched = np.zeros(9)  # both arms stretched: their Jacobians lose rank
     with pytest.raises(SingularConfigurationError, match="closed-chain equations"):
         dynamic_ellipsoid(MODEL, stretched, torque_limits(MODEL.robot), obj=HeldObject(2.0), method="exact")
+
+
+def test_a_spec_alpha_coordinate_out_of_range_names_the_field(tmp_path):
+    import re
+    from pathlib import Path
+
+    from mobman.control import spec
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "examples" / "bayle_ellipse.toml").read_text()
+    blend = (
+        '[criterion]\nkind = "blend"\n'
+        'system = { kind = "manipulability", measure = "eccentricity", which = "system" }\n'
+        'arm = { kind = "manipulability", measure = "eccentricity", which = "arm" }\n'
+        "alpha = { start = 0.5, end = 1.5, coordinate = 99 }\n\n"
+    )
+    path = tmp_path / "blend.toml"
+    path.write_text(re.sub(r"\[criterion\].*?(?=\[gains\])", blend, text, flags=re.DOTALL))
+    with pytest.raises(MobmanError, match=r"criterion\.alpha\.coordinate: 99 out of range 0\.\.1"):
+        spec.load(path)
