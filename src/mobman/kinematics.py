@@ -23,7 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman.batching import across_cores, blocked
-from mobman.errors import InputError
+from mobman.errors import InputError, SingularConfigurationError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
 
@@ -181,6 +181,11 @@ def inverse_velocity(
     q = _q(robot, q)
     xi_dot = jnp.asarray(_vector(xi_dot, "xi_dot", task.dim))
     jbar = _reduced_jacobian(robot, q, task)
+    if not isinstance(jbar, jax.core.Tracer) and not bool(jnp.all(jnp.isfinite(jbar))):
+        raise SingularConfigurationError(
+            "inverse_velocity: J̄ holds NaN or infinite entries where the task's coordinates are singular as a "
+            "representation (see representation_singular)"
+        )
     jsharp = inverse(jbar)
     eta = jnp.einsum("...ij,...j->...i", jsharp, xi_dot)
     if z is not None:

@@ -20,7 +20,7 @@ def outside_limits(robot: MobileManipulator, q: np.ndarray, field: str, strict: 
     names = robot.coordinate_names
     out = []
     for k, row in enumerate(violations):
-        bad = [i for i in np.flatnonzero(row)]
+        bad = list(np.flatnonzero(row))
         out.append([names[i] for i in bad])
         if not bad:
             continue
