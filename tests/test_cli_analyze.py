@@ -100,3 +100,52 @@ def test_bad_input_is_one_line_and_exit_status_2(argv, needle, capsys):
     assert exc.value.code == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("error:") and len(err.splitlines()) == 1 and needle in err
+
+
+VERTICAL = "0,0,0,0.2,1.5707963267948966,0.9"  # Bayle's RRP arm pointing straight up
+
+
+def test_rrp_arm_pointing_up_is_regular_and_follows_the_joint(capsys):
+    (result,) = json.loads(_run(capsys, "bayle-rrp", "--q", VERTICAL, "--json"))["results"]
+    assert result["representation_singular"] is False and result["outside_limits"] == []
+    np.testing.assert_allclose(result["xi"], [0.0, 0.0, 0.9, 0.2, np.pi / 2], atol=1e-15)
+    np.testing.assert_allclose(
+        np.asarray(result["J_bar"])[3:], [[0, 1, 1, 0, 0], [0, 0, 0, 1, 0]], atol=1e-15
+    )
+    assert result["rank_J_bar"] == 4 and np.isfinite(result["singular_values"]).all()
+    (past,) = json.loads(_run(capsys, "bayle-rrp", "--q", "0,0,0,0.2,2.5,0.9", "--json"))["results"]
+    assert past["xi"][4] == pytest.approx(2.5)  # ξ5 = q5 beyond the vertical, not π − q5
+
+
+def test_representation_singular_task_prints_every_finite_quantity(tmp_path, capsys):
+    from mobman.cli.analyze import analysis
+    from mobman.model import EulerAngles
+
+    robot = robots.bayle_rrp().with_task(EulerAngles("ZYZ"))  # ZYZ locked where the tool's z axis is vertical
+    data = analysis(robot, np.array([[0, 0, 0, 0.2, 0.0, 0.9], [0, 0, 0, 0.2, 0.4, 0.9]]))
+    locked, regular = data["results"]
+    assert locked["representation_singular"] and not regular["representation_singular"]
+    assert np.isfinite(locked["xi"]).all() and locked["rank_J"] is None and locked["manipulability"] is None
+    assert regular["rank_J"] == 2 and np.isfinite(regular["J_bar"]).all()  # R depends on ψ and q5 only
+
+
+def test_configuration_outside_the_joint_limits_warns_or_fails_with_strict_limits(capsys):
+    q = "0,0,0,0.2,0.5,-0.5"  # q6 ≥ 0
+    (result,) = json.loads(_run(capsys, "bayle-rrp", "--q", q, "--json"))["results"]
+    assert result["outside_limits"] == ["q6"]
+    main(["analyze", "bayle-rrp", "--q", q])
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("warning:") and "q6 = -0.5" in err and len(err.splitlines()) == 1
+    with pytest.raises(SystemExit) as exc:
+        main(["analyze", "bayle-rrp", "--q", q, "--strict-limits"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: --q: q6 = -0.5 outside [0, inf]") and len(err.splitlines()) == 1
+
+
+def test_a_zero_shoulder_offset_is_a_valid_geometry(capsys):
+    (result,) = json.loads(_run(capsys, "manus-platform", "--param", "L2=0", "--json"))["results"]
+    assert np.isfinite(result["J_bar"]).all()
+    with pytest.raises(SystemExit):
+        main(["analyze", "manus-platform", "--param", "L3=0"])
+    assert "L3 (a length) must be a finite number > 0" in capsys.readouterr().err

@@ -185,3 +185,27 @@ def test_bad_input_is_one_line_and_exit_2(args, message, capsys):
     assert info.value.code == 2
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error:") and message in lines[0]
+
+
+def test_rrp_arm_pointing_up_gives_a_finite_ellipsoid_and_the_flags(capsys):
+    report = _json(["bayle-rrp", "--q", "0,0,0,0.2,1.5707963267948966,0.9"], capsys)
+    assert report["representation_singular"] is False and report["outside_limits"] == []
+    assert np.isfinite(report["axes"]).all() and np.isfinite(report["directions"]).all()
+
+
+def test_singular_closed_chain_is_one_line_naming_the_cause(capsys):
+    args = ["ellipsoid", "yamamoto-dual-arm", "--q", "0,0,0,0,0,0,0,0,0", "--kind", "dynamic", "--held"]
+    with pytest.raises(SystemExit) as exc:
+        main(args)  # both arms stretched: their Jacobians lose rank
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: dynamic ellipsoid") and "singular" in err and len(err.splitlines()) == 1
+    assert np.isfinite(_json([*args[1:], "--method", "paper"], capsys)["axes"]).all()
+
+
+def test_ellipsoid_outside_the_joint_limits_warns_or_fails_with_strict_limits(capsys):
+    report = _json(["bayle-rrp", "--q", "0,0,0,0.2,0.5,-0.5"], capsys)
+    assert report["outside_limits"] == ["q6"]
+    with pytest.raises(SystemExit) as exc:
+        main(["ellipsoid", "bayle-rrp", "--q", "0,0,0,0.2,0.5,-0.5", "--strict-limits"])
+    assert exc.value.code == 2 and "q6 = -0.5 outside" in capsys.readouterr().err

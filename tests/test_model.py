@@ -462,7 +462,7 @@ def test_models_are_hashable_and_equal_by_value():
 @pytest.mark.parametrize(
     "make, match",
     [
-        (lambda: robots.bayle_planar(l1=-1.0), "l1 must be a finite number > 0"),
+        (lambda: robots.bayle_planar(l1=-1.0), "l1 \\(a length\\) must be a finite number > 0"),
         (lambda: robots.build("nonexistent"), "unknown robot"),
         (lambda: robots.build("bayle-planar", l9=1.0), "unknown parameter 'l9'"),
         (lambda: DifferentialDrive(wheel_radius=0.0), "wheel_radius must be"),

@@ -96,9 +96,10 @@ def _relation(q, g6=None):
 
 
 def test_rrp_consistency_relation_corrected_spans_left_null_space(rrp):
-    # on the chart of the paper's ξ5 = q5 (|q5| < π/2), off the VSC
+    # ξ5 = q5 over the whole turn (exactly ±π/2 and π included), off the VSC
     q = _random(rrp, 100, seed=5)
-    q[:, 4] = np.random.default_rng(6).uniform(-1.5, 1.5, 100)
+    q[:, 4] = np.random.default_rng(6).uniform(-math.pi, math.pi, 100)
+    q[:4, 4] = [math.pi / 2, -math.pi / 2, 0.5 * math.pi + 1e-9, math.pi - 0.3]
     jbar = np.asarray(K.reduced_jacobian(rrp, q))
     y = _relation(q)
     np.testing.assert_allclose(np.einsum("ni,nij->nj", y, jbar), 0.0, atol=1e-12)
@@ -110,7 +111,7 @@ def test_rrp_consistency_relation_corrected_spans_left_null_space(rrp):
 
 def test_rrp_printed_relation_with_a_constant_g6_is_not_consistent(rrp):
     q = _random(rrp, 20, seed=7)
-    q[:, 5] = 0.3 + np.arange(20) * 0.1  # q6 ≠ 1
+    q[:, 5] = 0.35 + np.arange(20) * 0.1  # q6 ≠ 1
     jbar = np.asarray(K.reduced_jacobian(rrp, q))
     residual = np.einsum("ni,nij->nj", _relation(q, g6=1.0), jbar)
     assert np.all(np.linalg.norm(residual, axis=-1) > 1e-3)

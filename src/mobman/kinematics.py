@@ -8,6 +8,7 @@ robot and the task as static arguments, so a second call with the same shapes do
 - :func:`jacobian` J = ∂f/∂q (geometric for position/orientation tasks, autodiff otherwise)
 - :func:`S`, :func:`constraints` the admissible-velocity basis and the nonholonomic constraints
 - :func:`reduced_jacobian` J̄ = J S (Bayle eq. 2)
+- :func:`representation_singular` where the task's coordinates are singular as a representation
 - :func:`inverse_velocity` η = J̄# ξ̇ + (I − J̄# J̄) z, q̇ = S η (Bayle §4.3)
 - :func:`is_consistent` rank[J̄ | ξ̇] = rank J̄
 """
@@ -22,7 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman.batching import across_cores, blocked
-from mobman.errors import InputError
+from mobman.errors import InputError, SingularConfigurationError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
 
@@ -51,6 +52,10 @@ def reduced_jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -
     return robot.apply_S(jacobian_one(robot, task, q), q)
 
 
+def _representation_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
+    return task.representation_singular(robot, q, robot.frames(q))
+
+
 # --- public batched API ----------------------------------------------------------------------------
 
 
@@ -70,6 +75,12 @@ def _jacobian(robot, q, task):
 @partial(jax.jit, static_argnums=(0, 2))
 def _reduced_jacobian(robot, q, task):
     return blocked(partial(reduced_jacobian_one, robot, task))(q)
+
+
+@across_cores({1: 1})
+@partial(jax.jit, static_argnums=(0, 2))
+def _representation(robot, q, task):
+    return blocked(partial(_representation_one, robot, task))(q)
 
 
 @across_cores({1: 1})
@@ -96,6 +107,21 @@ def validated_q(robot: MobileManipulator, q):
     return robot.validate_q(q)
 
 
+def _vector(x, name: str, size: int) -> np.ndarray:
+    """A finite float array (..., size), or InputError naming ``name``."""
+    if isinstance(x, jax.core.Tracer):
+        return x
+    try:
+        arr = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: expected numbers, shape (..., {size}), got {type(x).__name__}") from None
+    if arr.ndim < 1 or arr.shape[-1] != size:
+        raise InputError(f"{name}: expected shape (..., {size}), got {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise InputError(f"{name}: every component must be finite")
+    return arr
+
+
 def forward(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
     """Operational coordinates ξ = f(q), shape (..., m)."""
     return _forward(robot, validated_q(robot, q), resolve_task(robot, task))
@@ -109,6 +135,14 @@ def jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarr
 def reduced_jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
     """Reduced Jacobian J̄(q) = J(q) S(q), shape (..., m, n_eta): ξ̇ = J̄ η (Bayle eq. 2)."""
     return _reduced_jacobian(robot, validated_q(robot, q), resolve_task(robot, task))
+
+
+def representation_singular(robot: MobileManipulator, q, task: Task | None = None) -> np.ndarray:
+    """True where the task's coordinates are singular as a representation (the heading of a vertical axis,
+    an Euler set's gimbal lock; :mod:`mobman.model.task`), boolean, shape (...). There ξ is not a chart of the
+    frame and J, J̄ may be unbounded or NaN; kinematic and velocity singularities (KSC, VSC) are another
+    matter, a property of the robot."""
+    return np.asarray(_representation(robot, validated_q(robot, q), resolve_task(robot, task)), dtype=bool)
 
 
 def S(robot: MobileManipulator, q) -> jnp.ndarray:
@@ -148,14 +182,17 @@ def inverse_velocity(
     """
     task = resolve_task(robot, task)
     q = validated_q(robot, q)
-    xi_dot = jnp.asarray(xi_dot, dtype=float)
-    if xi_dot.shape[-1] != task.dim:
-        raise InputError(f"xi_dot has {xi_dot.shape[-1]} components, the task {task.names} has {task.dim}")
+    xi_dot = jnp.asarray(_vector(xi_dot, "xi_dot", task.dim))
     jbar = _reduced_jacobian(robot, q, task)
+    if not isinstance(jbar, jax.core.Tracer) and not bool(jnp.all(jnp.isfinite(jbar))):
+        raise SingularConfigurationError(
+            "inverse_velocity: J̄ holds NaN or infinite entries where the task's coordinates are singular as a "
+            "representation (see representation_singular)"
+        )
     jsharp = inverse(jbar)
     eta = jnp.einsum("...ij,...j->...i", jsharp, xi_dot)
     if z is not None:
-        z = jnp.asarray(z, dtype=float)
+        z = jnp.asarray(_vector(z, "z", robot.n_eta))
         projector = jnp.eye(robot.n_eta) - jsharp @ jbar
         eta = eta + jnp.einsum("...ij,...j->...i", projector, z)
     q_dot = jnp.einsum("...ij,...j->...i", _S(robot, q), eta)
@@ -163,8 +200,19 @@ def inverse_velocity(
 
 
 def rank(a, rtol: float = 1e-9) -> np.ndarray:
-    """Numerical rank of (batched) matrices: singular values above rtol · σmax (absolute floor 1e-12)."""
-    s = np.linalg.svd(np.asarray(a), compute_uv=False)
+    """Numerical rank of (batched) matrices: singular values above rtol · σmax (absolute floor 1e-12).
+    InputError for NaN or infinite entries (their rank is undefined)."""
+    try:
+        a = np.asarray(a, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"rank: expected an array of numbers, got {type(a).__name__}") from None
+    if a.ndim < 2:
+        raise InputError(f"rank: expected matrices of shape (..., m, k), got shape {a.shape}")
+    if not np.isfinite(a).all():
+        bad = np.argwhere(~np.isfinite(a).all(axis=(-2, -1)))
+        where = f" at batch index {tuple(int(i) for i in bad[0])}" if bad.size else ""
+        raise InputError(f"rank: the matrix holds NaN or infinite entries{where}")
+    s = np.linalg.svd(a, compute_uv=False)
     smax = s[..., :1] if s.shape[-1] else np.zeros(s.shape[:-1] + (1,))
     return np.sum(s > np.maximum(rtol * smax, 1e-12), axis=-1)
 
@@ -173,7 +221,12 @@ def is_consistent(robot: MobileManipulator, q, xi_dot, task: Task | None = None,
     """Consistency of the reduced kinematics: rank[J̄ | ξ̇] = rank J̄ (Bayle §4.3), batched."""
     task = resolve_task(robot, task)
     jbar = np.asarray(reduced_jacobian(robot, q, task))
-    xi_dot = np.asarray(xi_dot, dtype=float)
-    xi_dot = np.broadcast_to(xi_dot, jbar.shape[:-1])
+    xi_dot = _vector(xi_dot, "xi_dot", task.dim)
+    try:
+        xi_dot = np.broadcast_to(xi_dot, jbar.shape[:-1])
+    except ValueError:
+        raise InputError(
+            f"xi_dot of shape {xi_dot.shape} does not match the configurations' batch shape {jbar.shape[:-2]}"
+        ) from None
     augmented = np.concatenate([jbar, xi_dot[..., None]], axis=-1)
     return rank(augmented, rtol) == rank(jbar, rtol)

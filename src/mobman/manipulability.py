@@ -8,7 +8,8 @@ For a Jacobian J (m × k) with singular values σ_1 ≥ … ≥ σ_m (Nait-Chaba
 
 They apply to the arm's Jacobian J_a (platform fixed), to the reduced Jacobian J̄ = J S of the whole system
 (ξ̇ = J̄ η, Bayle eq. 2) and to the normalised J̄_N = J̄ · R, R = diag(v_max, ω_max, q̇_a,max…) (Nait-Chabane
-eq. 20–26), which gives the mixed units of η a common scale. A rank-deficient J gives w = 0, w2 = 0, w5 = 1.
+eq. 20–26), which gives the mixed units of η a common scale. A rank-deficient J gives w = 0, w2 = 0, w5 = 1;
+a J holding NaN gives NaN measures inside compiled code and an InputError at the public functions.
 
 **Restricted measures.** When the velocity degree D̄ is smaller than m (``robots.bayle_rrp``: J̄ is 5 × 5 of
 rank ≤ 4 everywhere), the plain measures are identically degenerate. ``rank=r`` restricts them to the
@@ -35,7 +36,7 @@ import numpy as np
 from mobman import kinematics as K
 from mobman import linalg
 from mobman.batching import across_cores, blocked
-from mobman.errors import InputError, ModelError
+from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
@@ -85,11 +86,13 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
     parts = spatial.unstack(lam)  # one split (one concatenation in reverse mode), not a slice per use
     top, low = parts[0], parts[r - 1]
     ratio = jnp.clip(_safe_ratio(low, top), 0.0, 1.0)
-    return {
+    undefined = jnp.isnan(reduce(jnp.add, parts))  # a non-finite J: NaN measures, never w = 0 or w5 = 1
+    out = {
         "yoshikawa": _safe_sqrt(reduce(jnp.multiply, parts[:r])),
         "inverse_condition": _safe_sqrt(ratio),
         "eccentricity": jnp.where(top > 0, _safe_sqrt(1.0 - ratio), 1.0),
     }
+    return {k: jnp.where(undefined, jnp.asarray(jnp.nan, v.dtype), v) for k, v in out.items()}
 
 
 def _measures_one(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
@@ -112,10 +115,23 @@ def _as_jacobian(j) -> jnp.ndarray:
     if isinstance(j, jax.core.Tracer):
         return j
     # a float64 jax.Array passes as it is: a converted copy would leave jit's fast dispatch path (~35 µs)
-    arr = j if isinstance(j, jax.Array) and j.dtype == jnp.float64 else jnp.asarray(j, dtype=float)
-    if arr.ndim < 2:
-        raise InputError(f"a Jacobian must have shape (..., m, k), got shape {arr.shape}")
+    if isinstance(j, jax.Array) and j.dtype == jnp.float64:
+        arr = j
+    else:
+        try:
+            arr = jnp.asarray(np.asarray(j, dtype=float))
+        except (TypeError, ValueError):
+            raise InputError(f"a Jacobian must be an array of numbers, got {type(j).__name__}") from None
+    if arr.ndim < 2 or 0 in arr.shape[-2:]:
+        raise InputError(f"a Jacobian must have shape (..., m, k) with m, k ≥ 1, got shape {arr.shape}")
+    if not bool(_all_finite(arr)):
+        bad = np.argwhere(~np.isfinite(np.asarray(arr)).all(axis=(-2, -1)))
+        where = f" at batch index {tuple(int(i) for i in bad[0])}" if bad.size else ""
+        raise InputError(f"the Jacobian holds NaN or infinite entries{where}: its measures are undefined")
     return arr
+
+
+_all_finite = jax.jit(lambda a: jnp.all(jnp.isfinite(a)))
 
 
 def singular_values(j) -> jnp.ndarray:
@@ -128,6 +144,7 @@ def measures(j, rank: int | None = None) -> dict[str, jnp.ndarray]:
 
     ``{"yoshikawa": w, "inverse_condition": w2, "eccentricity": w5}``; with ``rank=r`` they are restricted to
     the r largest singular values (w = σ_1⋯σ_r, σ_min = σ_r). Rank-deficient: w = 0, w2 = 0, w5 = 1.
+    A Jacobian with NaN or infinite entries raises InputError.
     """
     j = _as_jacobian(j)
     _check_rank(rank, min(j.shape[-2:]))
@@ -220,6 +237,13 @@ def _resolve_rank(robot, task, which: str, rank: Rank) -> int | None:
         return rank
     m = (task or robot.task).dim
     r = admissible_ranks(robot, task)[which]
+    if r == 0:
+        moved_by = "the arm's joints" if which == "arm" else "any quasi-velocity"
+        raise ModelError(
+            f"{robot.name}: the {which} Jacobian is zero at every sampled configuration: the task "
+            f"({', '.join((task or robot.task).names)}) does not move with {moved_by} (links of zero length?), "
+            "so its measures are undefined"
+        )
     return r if r < m else None
 
 
@@ -238,6 +262,11 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
     (D̄ for the system) is below m. ``restricted`` says whether any reported measure is a restricted one.
     """
     jac = K.jacobian(robot, q, task)
+    if not bool(_all_finite(jac)):
+        raise SingularConfigurationError(
+            "manipulability: J holds NaN or infinite entries at configurations where the task's coordinates "
+            "are singular as a representation (see mobman.kinematics.representation_singular)"
+        )
     jbar = jac @ K.S(robot, q)
     j_arm = jac[..., robot.arm_slice(0)]
     if isinstance(rank, (int, np.integer)):

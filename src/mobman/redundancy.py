@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from mobman import kinematics as K
+from mobman.errors import SingularConfigurationError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
 
@@ -82,7 +83,20 @@ def ranks(
     """(d(q), d̄(q)) = (rank J(q), rank J̄(q)), integer arrays with the leading shape of q."""
     j = np.asarray(K.jacobian(robot, q, task))
     jbar = np.asarray(K.reduced_jacobian(robot, q, task))
+    _check_finite(j, "J")
     return K.rank(j, rtol), K.rank(jbar, rtol)
+
+
+def _check_finite(a: np.ndarray, name: str) -> None:
+    """SingularConfigurationError where a Jacobian is not finite (a representation singularity of the task)."""
+    bad = ~np.isfinite(a).all(axis=(-2, -1))
+    if bad.any():
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        where = f" at configuration {index}" if index else ""
+        raise SingularConfigurationError(
+            f"{name} holds NaN or infinite entries{where}: the task's coordinates are singular "
+            "as a representation there (see mobman.kinematics.representation_singular); its rank is undefined"
+        )
 
 
 @lru_cache(maxsize=64)
@@ -145,6 +159,7 @@ def consistency_relations(
     """
     report = redundancy_report(robot, task, rtol=rtol)
     jbar = np.asarray(K.reduced_jacobian(robot, q, task))
+    _check_finite(jbar, "J̄")
     u, _, _ = np.linalg.svd(jbar, full_matrices=True)
     return np.swapaxes(u[..., :, report.D_bar :], -1, -2)
 

@@ -12,8 +12,9 @@ stores numbers, so the robot is rebuilt by its factory (the built-in robot of th
 (lengths in translations are), and the coefficients found give the symbolic model exactly.
 
 **Simplification.** Every entry goes through :func:`simplify` (``trigsimp``, which folds sin/cos sums into
-sin/cos of angle sums, then ``factor_terms``). Orientation angles (atan2 / asin of rotation entries) are
-differentiated on the chart of Bayle §2 where the angle's cosine is positive, so √(cos² u) = cos u there.
+sin/cos of angle sums, then ``factor_terms``). An orientation angle atan2(c sin u, c cos u) (c > 0) is u
+itself (Bayle's ξ4 = q3 + q4, ξ5 = q5); other atan2 forms are differentiated on the chart of Bayle §2 where
+the angle's cosine is positive, so √(cos² u) = cos u there.
 
 **Rank drop.** :func:`rank_drop_conditions` uses the generic rank r (D or D̄ of :mod:`mobman.redundancy`):
 when r = m the rank drops where det(J̄ J̄ᵀ) (det J̄ when square) vanishes, factored; when r < m (J̄ square or not
@@ -246,10 +247,12 @@ class SymbolicRobot:
             return [p[index[c]] for c in task.components]
         if isinstance(task, PlanarAngle):
             r = self.link_poses(task.arm)[task.link][0]
-            return [sp.atan2(simplify(r[1, 0]), simplify(r[0, 0]))]
+            if task.sequence == "ZYX":
+                return [_angle(r[1, 0], r[0, 0])]
+            return [_angle(-r[0, 1], r[1, 1])]
         if isinstance(task, Elevation):
             r = self.link_poses(task.arm)[task.link][0]
-            return [sp.asin(simplify(r[2, 0]))]
+            return [_angle(r[2, 0], r[2, 2])]
         if isinstance(task, FunctionTask):
             q = np.empty(len(self.q), dtype=object)
             q[:] = self.q
@@ -289,8 +292,21 @@ def model(
     return SymbolicRobot(robot, params, factory)
 
 
+def _angle(y: sp.Expr, x: sp.Expr) -> sp.Expr:
+    """atan2(y, x) of two rotation entries, as the angle u itself where (y, x) = c (sin u, cos u) with c > 0
+    (a heading or elevation that follows a joint over the whole turn, equal to u modulo 2π)."""
+    y, x = simplify(y), simplify(x)
+    for factor in sp.Mul.make_args(y):
+        if isinstance(factor, sp.sin):
+            u = factor.args[0]
+            c = sp.factor_terms(y / factor)
+            if c.is_positive and sp.expand(x - c * sp.cos(u)) == 0:
+                return u
+    return sp.atan2(y, x)
+
+
 def _chart(expr: sp.Expr) -> sp.Expr:
-    """Derivatives of atan2/asin on the chart where the angle's cosine is positive: √(u²) = |u| → u.
+    """Derivatives of atan2 on the chart where the angle's cosine is positive: √(u²) = |u| → u.
 
     Compound trigonometric arguments are replaced by fresh symbols while simplifying (the derivative of an
     angle is a rational function of sin u, cos u of a few angles u), which keeps ``trigsimp`` fast.

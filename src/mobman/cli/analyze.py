@@ -1,7 +1,9 @@
 """``mobman analyze``: kinematics, redundancy, singularities and manipulability of a robot at configurations.
 
-For each configuration: ξ, J, J̄, their ranks, the singular values of J̄, the KSC / VSC flags with their
-orders, and w / w2 / w5 of the arm (J_a), the system (J̄) and the normalised system (J̄_N); once per robot the
+For each configuration: the coordinates outside the joint limits (also a warning on standard error;
+``--strict-limits`` makes it an error), ξ, J, J̄, the representation-singular flag (the task's coordinates
+singular as a representation, distinct from KSC / VSC; quantities that need a finite J̄ are then null where it
+is not), their ranks, the singular values of J̄, the KSC / VSC flags with their orders, and w / w2 / w5 of the arm (J_a), the system (J̄) and the normalised system (J̄_N); once per robot the
 redundancy report (M, δ, D, R, D̄, R̄). Measures are restricted to the admissible subspace where D̄ < m
 (``restricted`` / ``measure_rank`` say so). ``--symbolic`` adds J̄ in closed form and the factored
 rank-drop conditions.
@@ -25,6 +27,7 @@ from mobman import manipulability as mp
 from mobman import redundancy
 from mobman.cli.app import app
 from mobman.cli.common import load_robot, read_configurations
+from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
@@ -52,18 +55,15 @@ def _configurations(robot: MobileManipulator, q: str | None, q_file: Path | None
     return default_configuration(robot)[None, :]
 
 
-def analysis(robot: MobileManipulator, q: np.ndarray) -> dict:
-    """The JSON-ready analysis of configurations q (n, n_q): one batched call per quantity."""
-    report = redundancy.redundancy_report(robot)
-    xi = np.asarray(K.forward(robot, q))
-    jac = np.asarray(K.jacobian(robot, q))
-    jbar = np.asarray(K.reduced_jacobian(robot, q))
+def _regular_quantities(robot: MobileManipulator, q: np.ndarray, jbar: np.ndarray) -> list[dict]:
+    """Ranks, singular values, KSC / VSC and measures of configurations whose J̄ is finite (one batched call
+    per quantity)."""
     d, d_bar = redundancy.ranks(robot, q)
     ksc = redundancy.is_kinematic_singular(robot, q)
     vsc = redundancy.is_velocity_singular(robot, q)
     sigma = np.linalg.svd(jbar, compute_uv=False)
     measures = mp.analyze(robot, q, rank="auto")
-    results = []
+    out = []
     for k in range(q.shape[0]):
         manipulability = {
             level: None
@@ -73,12 +73,8 @@ def analysis(robot: MobileManipulator, q: np.ndarray) -> dict:
         }
         manipulability["restricted"] = bool(measures["restricted"])
         manipulability["measure_rank"] = measures["ranks"]
-        results.append(
+        out.append(
             {
-                "q": q[k],
-                "xi": xi[k],
-                "J": jac[k],
-                "J_bar": jbar[k],
                 "rank_J": int(d[k]),
                 "rank_J_bar": int(d_bar[k]),
                 "singular_values": sigma[k],
@@ -87,6 +83,55 @@ def analysis(robot: MobileManipulator, q: np.ndarray) -> dict:
                 "velocity_singular": bool(vsc.singular[k]),
                 "velocity_singularity_order": int(vsc.order[k]),
                 "manipulability": manipulability,
+            }
+        )
+    return out
+
+
+UNDEFINED = dict.fromkeys(
+    (
+        "rank_J",
+        "rank_J_bar",
+        "singular_values",
+        "kinematic_singular",
+        "kinematic_singularity_order",
+        "velocity_singular",
+        "velocity_singularity_order",
+        "manipulability",
+    )
+)
+"""What a configuration whose J or J̄ is not finite (a representation singularity) reports instead: null."""
+
+
+def analysis(robot: MobileManipulator, q: np.ndarray, outside: list[list[str]] | None = None) -> dict:
+    """The JSON-ready analysis of configurations q (n, n_q): one batched call per quantity.
+
+    ``representation_singular`` flags the configurations where the task's coordinates are singular as a
+    representation (distinct from KSC and VSC); where J or J̄ is not finite there, the quantities computed
+    from them are null. ``outside_limits`` names the coordinates outside the joint limits (``outside``:
+    already found by the caller)."""
+    report = redundancy.redundancy_report(robot)
+    xi = np.asarray(K.forward(robot, q))
+    jac = np.asarray(K.jacobian(robot, q))
+    jbar = np.asarray(K.reduced_jacobian(robot, q))
+    representation = K.representation_singular(robot, q)
+    finite = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
+    regular = iter(_regular_quantities(robot, q[finite], jbar[finite]) if finite.any() else ())
+    if outside is None:
+        outside = [
+            [robot.coordinate_names[i] for i in np.flatnonzero(row)] for row in robot.limit_violations(q)
+        ]
+    results = []
+    for k in range(q.shape[0]):
+        results.append(
+            {
+                "q": q[k],
+                "outside_limits": outside[k],
+                "xi": xi[k],
+                "J": jac[k],
+                "J_bar": jbar[k],
+                "representation_singular": bool(representation[k]),
+                **(next(regular) if finite[k] else UNDEFINED),
             }
         )
     return {
@@ -137,11 +182,14 @@ def analyze_command(
     symbolic: bool = typer.Option(
         False, "--symbolic", help="Also give J̄ in closed form and rank-drop conditions."
     ),
+    strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
 ) -> None:
     """Kinematics, redundancy (M, δ, D, R, D̄, R̄), singularities and manipulability at configurations."""
     robot = load_robot(robot_name, param, {"tip": tip, "base": base})
     configurations = _configurations(robot, q, q_file)
-    result = analysis(robot, configurations)
+    field = "--q-file" if q_file is not None else "--q"
+    outside = outside_limits(robot, configurations, field, strict_limits)
+    result = analysis(robot, configurations, outside)
     sym = symbolic_analysis(robot) if symbolic else None
     if json_output:
         if sym is not None:
@@ -174,9 +222,17 @@ def _print(result: dict, sym: dict | None) -> None:
     for i, r in enumerate(result["results"], start=1):
         table = Table(title=f"configuration {i}", show_header=False)
         table.add_row("q", _fmt(r["q"]))
+        table.add_row("outside joint limits", ", ".join(r["outside_limits"]) or "no")
         table.add_row("ξ", _fmt(r["xi"]))
         table.add_row("J", _fmt(r["J"]))
         table.add_row("J̄", _fmt(r["J_bar"]))
+        table.add_row("representation singular", str(r["representation_singular"]))
+        if r["rank_J"] is None:
+            table.add_row(
+                "rank, singular values, KSC, VSC", "undefined (J̄ not finite: representation singular)"
+            )
+            console.print(table)
+            continue
         table.add_row("rank J, rank J̄", f"{r['rank_J']}, {r['rank_J_bar']}")
         table.add_row("singular values of J̄", _fmt(r["singular_values"], 6))
         table.add_row(

@@ -10,7 +10,10 @@ inertials and effort limits) — other robots get a one-line error. ``--held``: 
 centroid of the tool points; with ``--grasp point`` the hands hold it at one point through pivots (x_o, y_o).
 
 Printed: principal semi-axes (major first), their unit directions (in the task coordinates), the centre and
-the volume; ``--json`` gives the same as one JSON object.
+the volume, the representation-singular flag (the task's coordinates singular as a representation: the
+ellipsoid's axes along them are then meaningless; where its Jacobian is not finite the command says so and
+exits 2) and the coordinates outside the joint limits (also a warning on standard error; ``--strict-limits``
+makes it an error); ``--json`` gives the same as one JSON object.
 """
 
 from __future__ import annotations
@@ -20,10 +23,12 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from mobman import kinematics as K
 from mobman.cli.app import app
 from mobman.cli.common import load_robot
+from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.dynamics import DynamicModel, yamamoto_platform
-from mobman.dynamics.ellipsoids import GRASPS, Ellipsoid, dynamic_ellipsoid, kinematic_ellipsoid
+from mobman.dynamics.ellipsoids import GRASPS, Ellipsoid, dynamic_ellipsoid, grasp_task, kinematic_ellipsoid
 from mobman.dynamics.grasp import HeldObject
 from mobman.errors import InputError, ModelError
 from mobman.io import dump_json
@@ -105,6 +110,7 @@ def ellipsoid_command(
         help="Dynamic: quasi-velocities v1,v2,… (platform, then joint rates); default at rest.",
     ),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
 ) -> None:
     """Principal axes (major first), directions and volume of the kinematic or dynamic task-space ellipsoid."""
     if kind not in KINDS:
@@ -116,11 +122,14 @@ def ellipsoid_command(
     robot = load_robot(robot_name, param)
     configuration = parse_vector(q, "--q", robot.n_q)
     robot.validate_q(configuration)
+    outside = outside_limits(robot, configuration[None], "--q", strict_limits)[0]
     if eta is not None and kind != "dynamic":
         raise InputError(
             "--eta applies to --kind dynamic only (the kinematic ellipsoid has no velocity terms)"
         )
     velocities = None if eta is None else parse_vector(eta, "--eta", robot.n_eta)
+    task = grasp_task(robot, grasp) if held else robot.task
+    representation = bool(K.representation_singular(robot, configuration, task))
     if kind == "kinematic":
         e = kinematic_ellipsoid(robot, configuration, held=held, grasp=grasp)
     else:
@@ -138,6 +147,8 @@ def ellipsoid_command(
         "robot": robot.name,
         "params": dict(robot.parameters),
         "q": configuration,
+        "outside_limits": outside,
+        "representation_singular": representation,
         "kind": kind,
         "held": held,
         **({"grasp": grasp} if held else {}),
@@ -165,3 +176,5 @@ def _print(result: dict) -> None:
     console.print(table)
     console.print("centre: " + ", ".join(f"{v:.6g}" for v in result["center"]))
     console.print(f"volume: {result['volume']:.6g}" + ("" if result["feasible"] else " (empty: infeasible)"))
+    console.print(f"representation singular: {result['representation_singular']}")
+    console.print("outside joint limits: " + (", ".join(result["outside_limits"]) or "no"))

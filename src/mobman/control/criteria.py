@@ -23,6 +23,7 @@ from typing import Callable
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from mobman.control._tree import pytree
 from mobman.errors import ModelError
@@ -132,12 +133,27 @@ class CubicTransition:
                 raise ModelError(f"CubicTransition: {name} must be finite, got {getattr(self, name)!r}")
         if self.start == self.end:
             raise ModelError("CubicTransition: start and end must differ")
+        if (
+            isinstance(self.coordinate, bool)
+            or not isinstance(self.coordinate, (int, np.integer))
+            or self.coordinate < 0
+        ):
+            raise ModelError(
+                f"CubicTransition: coordinate must be an index ≥ 0 into the task coordinates, got {self.coordinate!r}"
+            )
         for name in ("alpha_start", "alpha_end"):
             if not 0.0 <= float(getattr(self, name)) <= 1.0:
                 raise ModelError(f"CubicTransition: {name} must be in [0, 1], got {getattr(self, name)!r}")
 
     def __call__(self, xi_star) -> jnp.ndarray:
-        s = jnp.asarray(xi_star, dtype=float)[..., self.coordinate]
+        xi_star = jnp.asarray(xi_star, dtype=float)
+        m = xi_star.shape[-1] if xi_star.ndim else 0
+        if self.coordinate >= m:  # shapes are static: checked once per trace, never clamped
+            raise ModelError(
+                f"CubicTransition: coordinate {self.coordinate} out of range: the task has {m} coordinates "
+                f"(indices 0..{m - 1})"
+            )
+        s = xi_star[..., self.coordinate]
         tau = jnp.clip((s - self.start) / (self.end - self.start), 0.0, 1.0)
         return self.alpha_start + (self.alpha_end - self.alpha_start) * tau * tau * (3.0 - 2.0 * tau)
 

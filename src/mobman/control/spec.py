@@ -331,6 +331,12 @@ def parse(data: dict, base: Path | None = None) -> Spec:
         raise InputError(
             f"reference: {reference.dim} components, the controlled task {ctask.names} has {ctask.dim}"
         )
+    criterion = getattr(law, "criterion", None)
+    if isinstance(criterion, criteria.Blend) and criterion.alpha.coordinate >= ctask.dim:
+        raise InputError(
+            f"criterion.alpha.coordinate: {criterion.alpha.coordinate} out of range 0..{ctask.dim - 1} "
+            f"(the controlled task {', '.join(ctask.names)})"
+        )
     duration = fields.number(data, "duration", "", positive=True)
     dt = fields.number(data, "dt", "", positive=True)
     if dt > duration:

@@ -53,7 +53,7 @@ import numpy as np
 
 from mobman import kinematics
 from mobman.dynamics.grasp import HeldObject, grasp_matrix, grasp_matrix_rate
-from mobman.errors import InputError, ModelError
+from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import PlanarAngle, Position, Task, stack
@@ -78,6 +78,11 @@ class Ellipsoid:
     matrix: np.ndarray
     names: tuple[str, ...]
     feasible: np.ndarray
+
+    def __post_init__(self) -> None:
+        for name in ("center", "matrix"):
+            if not np.isfinite(getattr(self, name)).all():
+                raise InputError(f"Ellipsoid: {name} must be finite (NaN or infinite entries)")
 
     @property
     def shape_matrix(self) -> np.ndarray:
@@ -130,9 +135,10 @@ class Ellipsoid:
         s_ts = sigma[..., keep, :][..., :, fixed]
         s_ss = sigma[..., fixed, :][..., :, fixed]
         d = at - self.center[..., fixed]
-        gain = np.swapaxes(np.linalg.solve(s_ss, np.swapaxes(s_ts, -1, -2)), -1, -2)  # Σ_ts Σ_ss⁻¹
+        flat = "Ellipsoid.section: the block Σ_ss of the fixed coordinates is singular (a flat ellipsoid)"
+        gain = np.swapaxes(_solve(s_ss, np.swapaxes(s_ts, -1, -2), flat), -1, -2)  # Σ_ts Σ_ss⁻¹
         center = self.center[..., keep] + np.einsum("...ij,...j->...i", gain, d)
-        rho2 = 1.0 - np.einsum("...i,...i->...", d, np.linalg.solve(s_ss, d[..., None])[..., 0])
+        rho2 = 1.0 - np.einsum("...i,...i->...", d, _solve(s_ss, d[..., None], flat)[..., 0])
         cond = s_tt - gain @ np.swapaxes(s_ts, -1, -2)
         vals, vecs = np.linalg.eigh((cond + np.swapaxes(cond, -1, -2)) / 2)
         root = vecs * np.sqrt(np.clip(vals, 0.0, None))[..., None, :] @ np.swapaxes(vecs, -1, -2)
@@ -144,7 +150,8 @@ class Ellipsoid:
     def contains(self, x, tol: float = 1e-9) -> np.ndarray:
         """Whether points x (..., m) lie in E (Σ invertible), up to ``tol`` on the quadratic form."""
         d = np.asarray(x, dtype=float) - self.center
-        form = np.einsum("...i,...i->...", d, np.linalg.solve(self.shape_matrix, d[..., None])[..., 0])
+        flat = "Ellipsoid.contains: the shape matrix Σ is singular (a flat ellipsoid)"
+        form = np.einsum("...i,...i->...", d, _solve(self.shape_matrix, d[..., None], flat)[..., 0])
         return np.logical_and(self.feasible, form <= 1.0 + tol)
 
     def boundary(self, n: int = 100, keep: Sequence[int] = (0, 1)) -> np.ndarray:
@@ -306,6 +313,7 @@ def kinematic_ellipsoid(
     is_platform = np.arange(robot.n_eta) < robot.platform.n_eta
     u_max = actuator_velocity_limits(robot) * np.where(is_platform, scale[..., None], 1.0)
     center, matrix = _kinematic(robot, task, grasp if held else None, q, u_max)
+    matrix = _finite_matrix(np.asarray(matrix), "kinematic ellipsoid")
     names = (POINT_NAMES if grasp == "point" else OBJECT_NAMES) if held else task.names
     return Ellipsoid(np.asarray(center), np.asarray(matrix), names, np.ones(center.shape[:-1], dtype=bool))
 
@@ -379,6 +387,34 @@ def _interaction_mask(robot: MobileManipulator) -> np.ndarray:
     return mask
 
 
+def _solve(a: np.ndarray, b: np.ndarray, what: str) -> np.ndarray:
+    """np.linalg.solve(a, b), batched; SingularConfigurationError with the message ``what`` (what is singular
+    and why) and the first configuration where a is singular or not finite."""
+    finite = np.isfinite(a).all(axis=(-2, -1)) & np.isfinite(b).all(axis=(-2, -1))
+    if finite.all():
+        try:
+            return np.linalg.solve(a, b)
+        except np.linalg.LinAlgError:
+            pass
+    singular = ~finite | ~np.isfinite(np.linalg.cond(np.where(finite[..., None, None], a, 0.0)))
+    index = tuple(int(i) for i in np.argwhere(singular)[0]) if singular.any() else ()
+    where = f" at configuration {index}" if index else ""
+    raise SingularConfigurationError(f"{what}{where}")
+
+
+def _finite_matrix(matrix: np.ndarray, what: str) -> np.ndarray:
+    """The ellipsoid's matrix, or SingularConfigurationError where it is not finite."""
+    bad = ~np.isfinite(matrix).all(axis=(-2, -1))
+    if bad.any():
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        where = f" at configuration {index}" if index else ""
+        raise SingularConfigurationError(
+            f"{what}: the task's Jacobian is not finite{where} (its coordinates are singular as a representation "
+            "there, see mobman.kinematics.representation_singular)"
+        )
+    return matrix
+
+
 def _mv(a: np.ndarray, v: np.ndarray) -> np.ndarray:
     return np.einsum("...ij,...j->...i", a, v)
 
@@ -390,11 +426,15 @@ def _t(a: np.ndarray) -> np.ndarray:
 def _paper(terms: _Terms, tau_max: np.ndarray):
     """Eq. 31–38: τ = Λ_o a_o + μ_o with u̇ = J⁺(Wᵀ a_o − drift), h = W⁺(M_o a_o + c_o + g_o)."""
     j_plus, w_plus = np.linalg.pinv(terms.j), np.linalg.pinv(terms.w)
-    lam = np.linalg.solve(
-        terms.q, terms.p @ j_plus @ _t(terms.w) + _t(terms.j) @ w_plus @ terms.m_o
+    lam = _solve(
+        terms.q,
+        terms.p @ j_plus @ _t(terms.w) + _t(terms.j) @ w_plus @ terms.m_o,
+        "dynamic ellipsoid: the input matrix Q is singular",
     )  # eq. 34
     mu_rhs = terms.b - _mv(terms.p @ j_plus, terms.drift) + _mv(_t(terms.j) @ w_plus, terms.bias_o)
-    mu = np.linalg.solve(terms.q, mu_rhs[..., None])[..., 0]  # eq. 35, corrected
+    mu = _solve(terms.q, mu_rhs[..., None], "dynamic ellipsoid: the input matrix Q is singular")[
+        ..., 0
+    ]  # eq. 35, corrected
     lam_bar, mu_bar = lam / tau_max[..., :, None], mu / tau_max  # eq. 36
     lam_pinv = np.linalg.pinv(lam_bar)
     outside = mu_bar - _mv(lam_bar @ lam_pinv, mu_bar)
@@ -415,7 +455,12 @@ def closed_chain_matrices(terms: _Terms) -> tuple[np.ndarray, np.ndarray]:
     rhs = np.zeros(batch + (n + r + m, n + 1))
     rhs[..., :n, :n] = terms.q
     rhs[..., :, n] = np.concatenate([-terms.b, -terms.bias_o, -terms.drift], axis=-1)
-    sol = np.linalg.solve(a, rhs)[..., -m:, :]
+    what = (
+        "dynamic ellipsoid: the closed-chain equations (mass matrix, task Jacobian, grasp matrix) are singular: an arm's Jacobian "
+        "loses rank there (stretched or folded), its hand forces are undetermined; method 'paper' uses "
+        "pseudo-inverses"
+    )
+    sol = _solve(a, rhs, what)[..., -m:, :]
     return sol[..., :n], sol[..., n]
 
 
@@ -455,6 +500,12 @@ def dynamic_terms(
         raise InputError(f"eta: expected {robot.n_eta} finite quasi-velocities, got shape {eta.shape}")
     raw = _dynamic_terms(model, task, obj, grasp, uses_wheels(robot, "dynamic"), at_rest, q, eta)
     terms = _Terms(*(np.asarray(x) for x in raw))
+    _finite_matrix(terms.j, "dynamic ellipsoid")
+    for name, value in (("reduced mass matrix P", terms.p), ("velocity and gravity terms", terms.b)):
+        if not np.isfinite(value).all():
+            raise SingularConfigurationError(
+                f"dynamic ellipsoid: the {name} is not finite (check the inertials)"
+            )
     p = terms.p if interaction else terms.p * _interaction_mask(robot)
     keep = np.arange(robot.platform.n_eta if platform_fixed else 0, robot.n_eta)
     return _Terms(

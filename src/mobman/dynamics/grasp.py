@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -27,10 +28,20 @@ from mobman.errors import InputError
 
 
 def _offsets(offsets) -> jnp.ndarray:
-    r = jnp.asarray(offsets, dtype=float)
-    if r.ndim < 2 or r.shape[-1] not in (2, 3):
-        raise InputError(f"grasp offsets: expected shape (..., k, 2) or (..., k, 3), got {r.shape}")
-    return r
+    if isinstance(offsets, jax.core.Tracer):
+        r = offsets
+    else:
+        try:
+            r = np.asarray(offsets, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"grasp offsets: expected numbers, got {type(offsets).__name__}") from None
+        if not np.isfinite(r).all():
+            raise InputError("grasp offsets: every component must be finite")
+    if r.ndim < 2 or r.shape[-1] not in (2, 3) or r.shape[-2] == 0:
+        raise InputError(
+            f"grasp offsets: expected shape (..., k, 2) or (..., k, 3) with k ≥ 1, got {r.shape}"
+        )
+    return jnp.asarray(r)
 
 
 def _cross_rows(r: jnp.ndarray) -> jnp.ndarray:
@@ -84,6 +95,12 @@ def grasp_matrix_rate(offsets, omega) -> jnp.ndarray:
 def internal_force_basis(w: jnp.ndarray) -> jnp.ndarray:
     """Orthonormal basis of null(W), shape (..., mk, mk − m): the internal (squeeze) wrenches, which leave the
     object's net wrench unchanged. Assumes W of full row rank, as every W of :func:`grasp_matrix` is."""
+    if not isinstance(w, jax.core.Tracer):
+        w = np.asarray(w, dtype=float)
+        if w.ndim < 2 or w.shape[-2] > w.shape[-1] or not np.isfinite(w).all():
+            raise InputError(
+                f"internal_force_basis: W must be a finite (..., m, n) matrix with m ≤ n, got {w.shape}"
+            )
     _, _, vt = jnp.linalg.svd(w, full_matrices=True)
     return jnp.swapaxes(vt[..., w.shape[-2] :, :], -1, -2)
 

@@ -183,6 +183,13 @@ class MobileManipulator:
             lim for a in self.arms for lim in a.position_limits
         )
 
+    def limit_violations(self, q) -> np.ndarray:
+        """Which coordinates of configurations q (..., n_q) lie outside :attr:`position_limits` (a joint's
+        [lower, upper]), boolean (..., n_q); ``.any(-1)`` flags each configuration."""
+        q = self.validate_q(q)
+        lower, upper = np.array(self.position_limits, dtype=float).T
+        return (q < lower) | (q > upper)
+
     def with_task(self, task: "Task") -> "MobileManipulator":
         """The same robot with another operational task."""
         return replace(self, task=task)
@@ -204,7 +211,13 @@ class MobileManipulator:
 
     def validate_q(self, q) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values. Returns float64 NumPy."""
-        arr = np.asarray(q, dtype=float)
+        try:
+            arr = np.asarray(q, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(
+                f"{self.name}: a configuration is {self.n_q} numbers ({', '.join(self.coordinate_names)}) or a "
+                f"batch of them, got {type(q).__name__} {str(q)[:40]!r}"
+            ) from None
         self._check_q(arr.shape, lambda: _all_finite_host(arr))
         return arr
 

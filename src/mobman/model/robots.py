@@ -27,8 +27,15 @@ _LIFT = (0.0, -1.0, 0.0)  # rotating about −y lifts the x axis: positive angle
 
 
 def _check_lengths(owner: str, **lengths: float) -> None:
+    """Link lengths, wheel radii, track widths: finite and > 0."""
     for name, value in lengths.items():
-        checks.positive(value, name, owner)
+        checks.positive(value, f"{name} (a length)", owner)
+
+
+def _check_offsets(owner: str, **offsets: float) -> None:
+    """Offsets along a link or of a mount: finite and ≥ 0 (0 is a valid geometry)."""
+    for name, value in offsets.items():
+        checks.non_negative(value, f"{name} (an offset)", owner)
 
 
 def _check_finite(owner: str, **values: float) -> None:
@@ -78,7 +85,9 @@ def bayle_rrp() -> MobileManipulator:
     """HILARE-like platform + RRP arm (Bayle §5.2), M = 6; ξ = EE position, heading ϑ + q4, elevation q5.
 
     Joint 4 turns about the vertical, joint 5 lifts the arm, joint 6 slides along it; the base of the arm
-    is at the axle midpoint, as in the paper's direct kinematics.
+    is at the axle midpoint, as in the paper's direct kinematics. The two angles are read about the lift
+    axis (the tool frame's y axis, always horizontal): ξ4 = ϑ + q4 and ξ5 = q5 over the whole turn of q5,
+    through the vertical and past it (no representation singularity).
     """
     arm = Arm(
         (
@@ -91,7 +100,7 @@ def bayle_rrp() -> MobileManipulator:
     return MobileManipulator(
         DifferentialDrive(v_max=0.5, omega_max=1.0),
         (arm,),
-        task=stack(Position("xyz"), PlanarAngle(), Elevation()),
+        task=stack(Position("xyz"), PlanarAngle("ZXY"), Elevation()),
         name="bayle-rrp",
     )
 
@@ -103,12 +112,13 @@ def manus_platform(
 
     Arm coordinates are the paper's: q_a1 about the vertical, q_a2 and q_a3 the *absolute* elevation angles
     of the upper arm and forearm (the Manus has a parallelogram linkage), modelled with a coupling matrix.
-    L2 is the shoulder's lateral offset (0.12 m: the paper's retracted point (0, 0.12, 0)); L3 = L4 =
+    L2 ≥ 0 is the shoulder's lateral offset (0.12 m: the paper's retracted point (0, 0.12, 0)); L3 = L4 =
     0.35 m are a choice (the paper gives none). The arm base is at (a, b, c) in the platform frame: the
     paper's simulations state (0.12, 0.12, 0.4) m while §4.1 uses a = b = 0. Velocity limits are the
     paper's u_max = (0.33 m/s, 0.55 rad/s, π/3, π/3, π/3 rad/s).
     """
-    _check_lengths("manus_platform", L2=L2, L3=L3, L4=L4)
+    _check_offsets("manus_platform", L2=L2)
+    _check_lengths("manus_platform", L3=L3, L4=L4)
     _check_finite("manus_platform", a=a, b=b, c=c)
     w = math.pi / 3
     arm = Arm(
@@ -132,13 +142,14 @@ def manus_platform(
 
 
 def korayem_planar(l0: float = 0.4, l1: float = 0.5, l2: float = 0.5) -> MobileManipulator:
-    """Differential platform + planar 2R arm mounted at F, l0 ahead of the axle (Korayem eq. 20–25).
+    """Differential platform + planar 2R arm mounted at F, l0 ≥ 0 ahead of the axle (Korayem eq. 20–25).
 
     ξ = (x_e, y_e). Korayem's generalized coordinates are those of F; here q_p is the axle midpoint, a
     change of coordinates with unit Jacobian determinant, so the augmented-Jacobian determinants agree.
     Wheel radius 0.1 m and half-track 0.25 m are a choice (not in the seed text).
     """
-    _check_lengths("korayem_planar", l0=l0, l1=l1, l2=l2)
+    _check_offsets("korayem_planar", l0=l0)
+    _check_lengths("korayem_planar", l1=l1, l2=l2)
     arm = planar_arm((l1, l2), names=("theta1", "theta2"), velocity_max=(3.5, 3.5))
     return MobileManipulator(
         DifferentialDrive(wheel_radius=0.1, half_track=0.25, wheel_speed_max=3.5),

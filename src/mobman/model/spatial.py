@@ -16,6 +16,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman.errors import ModelError
+
 Transform = tuple[float, ...]
 """A fixed homogeneous transform, row-major 4 × 4 flattened to 16 floats (hashable)."""
 
@@ -167,15 +169,16 @@ def planar_pose(x: jnp.ndarray, y: jnp.ndarray, theta: jnp.ndarray):
 
 # --- orientation coordinates -----------------------------------------------------------------------
 
-EULER_SEQUENCES = ("ZYZ", "ZYX", "XYZ", "ZXZ")
+EULER_SEQUENCES = ("ZYZ", "ZYX", "XYZ", "ZXZ", "ZXY")
 
 
 def euler_angles(r: jnp.ndarray, sequence: str) -> jnp.ndarray:
     """Euler angles (a1, a2, a3) of rotation matrices r = R_{s1}(a1) R_{s2}(a2) R_{s3}(a3).
 
-    Supported sequences: ``ZYZ`` (θ in [0, π]), ``ZYX`` (yaw, pitch, roll; pitch in [−π/2, π/2]), ``XYZ``
-    and ``ZXZ``. The representation is singular where the middle angle is at the end of its range
-    (gimbal lock): operational coordinates are local variables (Bayle §2).
+    Supported sequences: ``ZYZ`` (θ in [0, π]), ``ZYX`` (yaw, pitch, roll; pitch in [−π/2, π/2]), ``XYZ``,
+    ``ZXZ`` and ``ZXY`` (yaw, roll, pitch: the pitch about the frame's own y axis covers (−π, π]). The
+    representation is singular where the middle angle is at the end of its range (gimbal lock, see
+    :func:`gimbal_margin`): operational coordinates are local variables (Bayle §2).
     """
     if sequence == "ZYZ":
         a1 = jnp.arctan2(r[..., 1, 2], r[..., 0, 2])
@@ -193,9 +196,32 @@ def euler_angles(r: jnp.ndarray, sequence: str) -> jnp.ndarray:
         a1 = jnp.arctan2(-r[..., 1, 2], r[..., 2, 2])
         a2 = jnp.arcsin(jnp.clip(r[..., 0, 2], -1.0, 1.0))
         a3 = jnp.arctan2(-r[..., 0, 1], r[..., 0, 0])
+    elif sequence == "ZXY":
+        a1 = jnp.arctan2(-r[..., 0, 1], r[..., 1, 1])
+        a2 = jnp.arcsin(jnp.clip(r[..., 2, 1], -1.0, 1.0))
+        a3 = jnp.arctan2(-r[..., 2, 0], r[..., 2, 2])
     else:
-        raise ValueError(f"unknown Euler sequence {sequence!r}; allowed: {', '.join(EULER_SEQUENCES)}")
+        raise ModelError(f"unknown Euler sequence {sequence!r}; allowed: {', '.join(EULER_SEQUENCES)}")
     return jnp.stack([a1, a2, a3], axis=-1)
+
+
+_GIMBAL_ENTRIES = {
+    "ZYZ": ((0, 2), (1, 2)),
+    "ZXZ": ((0, 2), (1, 2)),
+    "ZYX": ((0, 0), (1, 0)),
+    "XYZ": ((1, 2), (2, 2)),
+    "ZXY": ((0, 1), (1, 1)),
+}
+
+
+def gimbal_margin(r: jnp.ndarray, sequence: str) -> jnp.ndarray:
+    """|sin| (ZYZ, ZXZ) or |cos| (the others) of the middle Euler angle of rotation matrices r, shape (...).
+
+    It is the norm of the pair of entries whose atan2 gives the first angle: where it vanishes (gimbal lock)
+    the first and third angles are undefined and their derivatives unbounded, as 1 / margin.
+    """
+    (i0, j0), (i1, j1) = _GIMBAL_ENTRIES[sequence]
+    return jnp.hypot(r[..., i0, j0], r[..., i1, j1])
 
 
 def euler_matrix(angles: np.ndarray, sequence: str) -> np.ndarray:

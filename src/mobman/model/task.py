@@ -11,6 +11,12 @@ the frame and its columns from :func:`~mobman.model.frame_jacobian.frame_jacobia
 closed form (the kinematic Hessian). All other tasks (user functions of q) are differentiated by
 forward-mode autodiff. Stacks concatenate rows — this is how Korayem's extra rows and Tchoń's output
 extension are expressed.
+
+**Representation singularities.** An angle read from a rotation by atan2 is undefined where both its
+arguments vanish (the heading of a vertical axis, an Euler set's gimbal lock) and its derivative grows as
+1 / margin near there. :meth:`Task.representation_singular` tells where the margin is below
+:data:`REPRESENTATION_TOL`: there the task's coordinates do not describe the frame (a property of the chosen
+coordinates, not of the robot — distinct from a kinematic or velocity singularity, Bayle §2–4).
 """
 
 from __future__ import annotations
@@ -30,6 +36,11 @@ if TYPE_CHECKING:
     from mobman.model.robot import Frames, MobileManipulator
 
 _AXES = {"x": 0, "y": 1, "z": 2}
+
+REPRESENTATION_TOL = 1e-8
+"""An orientation coordinate is representation-singular where the norm of its atan2 arguments (its margin,
+|cos| of the middle Euler angle) is at most this: its derivative, 1 / margin, then exceeds 1e8 and its value
+is fixed by rounding errors of the rotation to no better than about 1e-8 rad."""
 
 
 @dataclass(frozen=True)
@@ -64,6 +75,13 @@ class Task:
 
     def check(self, robot: "MobileManipulator") -> None:
         """Raise ModelError if the task does not fit the robot (arm index, link index)."""
+
+    def representation_singular(
+        self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames"
+    ) -> jnp.ndarray:
+        """True where the task's coordinates are singular as a representation (module notes); never for
+        positions and functions of q."""
+        return jnp.asarray(False)
 
 
 def _components(components: str) -> tuple[int, ...]:
@@ -176,8 +194,15 @@ class _OrientationTask(Task):
     def angles(self, r: jnp.ndarray) -> jnp.ndarray:
         raise NotImplementedError
 
+    def margin(self, r: jnp.ndarray) -> jnp.ndarray:
+        """Norm of the atan2 arguments of the angles (the smallest one): 0 where they are undefined."""
+        raise NotImplementedError
+
     def value(self, robot, q, frames):
         return self.angles(frames.links[self.arm][0][self.link])
+
+    def representation_singular(self, robot, q, frames):
+        return self.margin(frames.links[self.arm][0][self.link]) <= REPRESENTATION_TOL
 
     def _frame(self, frames):
         rs, ps = frames.links[self.arm]
@@ -191,27 +216,50 @@ class _OrientationTask(Task):
         return spatial.matmul_expanded(axial, omega)
 
 
+_HEADINGS = ("ZYX", "ZXY")
+
+
 @dataclass(frozen=True)
 class PlanarAngle(_OrientationTask):
-    """Heading of the frame's x axis in the horizontal plane, atan2(R₁₀, R₀₀) (Bayle's ξ3, Korayem's α_e).
+    """Heading of an arm frame about the vertical: the yaw (first angle) of the Euler set ``sequence``.
 
-    For a planar robot it is the sum of the platform angle and the joint angles. It is the yaw of the ZYX
-    Euler set; it is continuous only away from ±π.
+    ``sequence="ZYX"`` (default): the heading of the frame's x axis, atan2(R₁₀, R₀₀) (Bayle's ξ3 in §5.1,
+    Korayem's α_e; for a planar robot the sum of the platform angle and the joint angles); undefined where the
+    x axis is vertical.
+    ``sequence="ZXY"``: the heading of the frame's x–z plane, atan2(−R₀₁, R₁₁), undefined only where the
+    y axis is vertical: for an arm that lifts about its y axis it stays ϑ + q4 through the vertical and past
+    it (Bayle §5.2, ξ4 = q3 + q4). Continuous away from ±π, where it wraps.
     """
+
+    sequence: str = "ZYX"
+
+    def __post_init__(self) -> None:
+        if self.sequence not in _HEADINGS:
+            raise ModelError(
+                f"PlanarAngle: sequence {self.sequence!r} not supported; allowed: {', '.join(_HEADINGS)}"
+            )
 
     @property
     def names(self) -> tuple[str, ...]:
         return ("angle",)
 
     def angles(self, r):
-        return jnp.arctan2(r[1, 0], r[0, 0])[None]
+        if self.sequence == "ZYX":
+            return jnp.arctan2(r[1, 0], r[0, 0])[None]
+        return jnp.arctan2(-r[0, 1], r[1, 1])[None]
+
+    def margin(self, r):
+        return spatial.gimbal_margin(r, self.sequence)
 
 
 @dataclass(frozen=True)
 class Elevation(_OrientationTask):
-    """Angle of the frame's x axis above the horizontal plane, asin(R₂₀) (Bayle's ξ5 for the RRP arm).
+    """Elevation of an arm frame about its own y axis: minus the pitch of the ZXY Euler set,
+    atan2(R₂₀, R₂₂) (Bayle's ξ5 = q5 for the RRP arm, §5.2).
 
-    Equal to minus the pitch of the ZYX Euler set.
+    While the y axis is horizontal (an arm that lifts about it) it is the angle of the x axis above the
+    horizontal plane, continuous over the whole turn (−π, π]: ξ5 = q5 through the vertical and past it.
+    Undefined only where the y axis is vertical (R₂₀ = R₂₂ = 0).
     """
 
     @property
@@ -219,13 +267,18 @@ class Elevation(_OrientationTask):
         return ("elevation",)
 
     def angles(self, r):
-        return jnp.arcsin(jnp.clip(r[2, 0], -1.0, 1.0))[None]
+        return jnp.arctan2(r[2, 0], r[2, 2])[None]
+
+    def margin(self, r):
+        return jnp.hypot(r[2, 0], r[2, 2])
 
 
 @dataclass(frozen=True)
 class EulerAngles(_OrientationTask):
     """Euler angles of an arm frame, sequence ``ZYZ``, ``ZYX`` (roll-pitch-yaw as yaw, pitch, roll),
-    ``XYZ`` or ``ZXZ``; ``select`` keeps a subset (indices into the three angles)."""
+    ``XYZ``, ``ZXZ`` or ``ZXY``; ``select`` keeps a subset (indices into the three angles). Representation-
+    singular at the gimbal lock of the sequence (:func:`~mobman.model.spatial.gimbal_margin`), whichever
+    angles are selected."""
 
     sequence: str = "ZYZ"
     select: tuple[int, ...] = (0, 1, 2)
@@ -249,6 +302,9 @@ class EulerAngles(_OrientationTask):
 
     def angles(self, r):
         return _rows(spatial.euler_angles(r, self.sequence), self.select)
+
+    def margin(self, r):
+        return spatial.gimbal_margin(r, self.sequence)
 
 
 @dataclass(frozen=True)
@@ -352,6 +408,9 @@ class Stack(Task):
 
     def value(self, robot, q, frames):
         return jnp.concatenate([t.value(robot, q, frames) for t in self.tasks])
+
+    def representation_singular(self, robot, q, frames):
+        return jnp.any(jnp.stack([t.representation_singular(robot, q, frames) for t in self.tasks]))
 
     def jacobian(self, robot, q, frames):
         return jnp.concatenate([t.jacobian(robot, q, frames) for t in self.tasks], axis=0)

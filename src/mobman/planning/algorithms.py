@@ -298,10 +298,12 @@ def plan(
     >>> plan(setting, z0, [5, 0, 0, 0.52], [0, 0, 1]).converged
     True
     """
-    z0 = np.asarray(z0, float)
-    q0 = np.asarray(q0, float)
-    y_d = np.asarray(y_d, float)
-    check_sizes(setting, z0, q0, y_d)
+    z0, q0, y_d = check_sizes(setting, z0, q0, y_d)
+    for name, a in (("z0", z0), ("q0", q0), ("y_d", y_d)):
+        if a.ndim != 1:
+            raise InputError(
+                f"plan: {name} must be one vector (plan_batch solves batches), got shape {a.shape}"
+            )
     result = to_result(setting, solve(setting, options, z0, q0, y_d))
     if raise_on_failure and not result.converged:
         raise ConvergenceError(
@@ -312,18 +314,26 @@ def plan(
     return result
 
 
-def check_sizes(setting: PlanningSetting, z0, q0, y_d) -> None:
-    """An InputError naming z0, q0 or y_d when its last dimension does not fit ``setting``."""
+def check_sizes(setting: PlanningSetting, z0, q0, y_d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """z0, q0, y_d as float arrays with the setting's sizes on their last axis and finite values (InputError
+    naming the argument otherwise)."""
     checks = (
         ("z0 (endogenous configuration)", z0, setting.n_z),
         ("q0 (platform start)", q0, setting.robot.platform.n_q),
         ("y_d (target)", y_d, setting.output.dim),
     )
+    arrays = []
     for name, value, size in checks:
+        try:
+            value = np.asarray(value, float)
+        except (TypeError, ValueError):
+            raise InputError(f"{name}: expected {size} numbers, got {type(value).__name__}") from None
+        arrays.append(value)
         if value.shape[-1:] != (size,):
             raise InputError(f"{name}: expected {size} values, got {value.shape[-1] if value.ndim else 1}")
         if not np.all(np.isfinite(value)):
             raise InputError(f"{name}: values must be finite")
+    return tuple(arrays)
 
 
 def dexterity_gradient(setting: PlanningSetting, gain: float = 1.0) -> Callable:

@@ -9,6 +9,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman.errors import InputError
 from mobman.planning.algorithms import STATUS, Options, PlanResult, check_sizes, solve_loop
 from mobman.planning.endpoint import PlanningSetting
 
@@ -57,9 +58,17 @@ def _solve_batch(setting, kernel, z0, q0, y_d, *arguments):
 def plan_batch(setting: PlanningSetting, z0, q0, y_d, options: Options = Options()) -> BatchResult:
     """Solve K_{q0,T}(z) = y_d for a batch: z0 (B, n_z), q0 (B, n_p), y_d (B, r), or any of them unbatched
     (broadcast). One compiled, vectorised call; the loop runs until every problem has stopped."""
-    z0, q0, y_d = (np.asarray(a, float) for a in (z0, q0, y_d))
-    check_sizes(setting, z0, q0, y_d)
-    size = max(a.shape[0] if a.ndim == 2 else 1 for a in (z0, q0, y_d))
+    names = ("z0", "q0", "y_d")
+    arrays = z0, q0, y_d = check_sizes(setting, z0, q0, y_d)
+    sizes = {a.shape[0] for a in arrays if a.ndim == 2}
+    for name, a in zip(names, arrays):
+        if a.ndim not in (1, 2) or (a.ndim == 2 and a.shape[0] == 0):
+            raise InputError(
+                f"plan_batch: {name} must be one problem (n,) or a non-empty batch (B, n), got {a.shape}"
+            )
+    if len(sizes - {1}) > 1:
+        raise InputError(f"plan_batch: batch sizes of z0, q0, y_d differ: {[a.shape for a in arrays]}")
+    size = max(sizes, default=1)
     z0, q0, y_d = (np.broadcast_to(a, (size, a.shape[-1])) for a in (z0, q0, y_d))
     out = _solve_batch(
         setting, options.kernel, jnp.asarray(z0), jnp.asarray(q0), jnp.asarray(y_d), *options.arguments()
