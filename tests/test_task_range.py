@@ -43,12 +43,14 @@ def _configurations(robot, n: int = 48, seed: int = 11) -> np.ndarray:
 
 def _tasks(robot) -> list:
     """One of every task kind, for the last arm's tool frame (the first arm's mount); two Euler sequences
-    per robot, each sequence on two robots."""
+    per robot, each sequence on two robots. The robot's own task comes first unless it is a pose, whose rows
+    are (v, ω) rather than ∂ξ/∂q (checked over the whole range in test_pose.py)."""
     arm = len(robot.arms) - 1
     k = list(robots.ROBOTS).index(robot.name)
     sequences = spatial.EULER_SEQUENCES[k % 5], spatial.EULER_SEQUENCES[(k + 1) % 5]
+    own = [robot.task] if robot.task.euclidean else []
     return [
-        robot.task,
+        *own,
         Position("xyz", arm=arm),
         MountPosition("xy"),
         PlanarAngle(arm=arm),
@@ -89,8 +91,9 @@ def test_every_task_over_the_whole_range(name):
     fd = _wrapped(plus - minus).reshape(n, robot.n_q, -1).transpose(0, 2, 1) / (2 * h)
     value, jac, jbar, autodiff, s, flags = value[:n], jac[:n], jbar[:n], autodiff[:n], s[:n], flags[:n]
     assert np.isfinite(value).all()
-    np.testing.assert_array_equal(flags[:, 0], K.representation_singular(robot, q))  # the public, batched one
-    np.testing.assert_allclose(np.asarray(K.reduced_jacobian(robot, q)), jbar[:, : rows[1]], atol=1e-12)
+    public = K.representation_singular(robot, q, tasks[0]), K.reduced_jacobian(robot, q, tasks[0])  # batched
+    np.testing.assert_array_equal(flags[:, 0], public[0])
+    np.testing.assert_allclose(np.asarray(public[1]), jbar[:, : rows[1]], atol=1e-12)
 
     for k, task in enumerate(tasks):
         r = slice(rows[k], rows[k + 1])
