@@ -52,7 +52,7 @@ def _rotation_errors(rotvec_star, rotvec):
     return (Rotation.from_rotvec(rotvec_star) * Rotation.from_rotvec(rotvec).inv()).magnitude()
 
 
-def test_the_spec_reference_is_the_file_s_path(run):
+def test_the_reference_is_the_spec_s_path(run):
     _, result, _ = run
     table = tomllib.loads(SPEC.read_text())["reference"]
     for key, sample in (("start", 0), ("end", -1)):
