@@ -18,6 +18,7 @@ from mobman.errors import InputError
 from mobman.io import trajectories
 from mobman.model import robots
 from mobman.model.visual import Visual
+from mobman.viz import viewer as viewer_module
 from mobman.viz.viewer import Viewer
 
 CHROMIUM_ARGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
@@ -255,6 +256,8 @@ def test_two_arm_robot_gets_an_ellipsoid_and_the_measures_at_each_tool():
     q[3], q[12] = np.pi / 2, np.pi  # arm_right_1 at its upper limit, arm_left_3 at π
     h = 1e-6
     steps = np.concatenate([q + h * np.eye(robot.n_q), q - h * np.eye(robot.n_q)])
+    # padded to a block of the viewer's size: the frames compiled for the viewer serve here too
+    steps = np.concatenate([steps, np.broadcast_to(q, (viewer_module.CHUNK - len(steps), robot.n_q))])
     tools = [np.asarray(p)[:, -1] for _, p in kinematics.frames(robot, steps).links]
     s = np.zeros((robot.n_q, robot.n_eta))
     s[0, 0], s[1, 0], s[2, 1] = np.cos(q[2]), np.sin(q[2]), 1.0
@@ -265,7 +268,7 @@ def test_two_arm_robot_gets_an_ellipsoid_and_the_measures_at_each_tool():
         assert "/ellipsoid" not in v.nodes and "/ellipsoid_dynamic" not in v.nodes
         factors = []
         for tool, label in zip(tools, labels):
-            j_p = ((tool[: robot.n_q] - tool[robot.n_q :]) / (2 * h)).T @ s
+            j_p = ((tool[: robot.n_q] - tool[robot.n_q : 2 * robot.n_q]) / (2 * h)).T @ s
             sigma = np.linalg.svd(j_p, compute_uv=False)
             node = v.nodes[f"/ellipsoid_{label}"]
             np.testing.assert_allclose(node.position, v.nodes[f"/robot/{label}/tool"].position, atol=1e-12)

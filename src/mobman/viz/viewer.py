@@ -353,8 +353,9 @@ class Viewer:
     >>> viewer.show([0, 0, 0, 0.3, 0.5, 0.4])  # doctest: +SKIP
     >>> viewer.close()  # doctest: +SKIP
 
-    ``normalized=True`` draws the ellipsoid of J̄_p · diag(η_max) (the robot needs velocity limits).
-    :attr:`nodes` maps scene node names to their viser handles; :attr:`time_slider` is the time slider of a
+    ``normalized=True`` draws the ellipsoid of J̄_p · diag(η_max) (the robot needs velocity limits); ``dynamics``
+    adds the dynamic ellipsoid at each tool. :attr:`nodes` maps scene node names to their viser handles (the
+    ellipsoids' names: :func:`ellipsoid_node`); :attr:`time_slider` is the time slider of a
     loaded motion (None before :meth:`load_results`); :attr:`measures_md`, :attr:`flags_html` and
     :attr:`jbar_md` are the panel's measures, KSC / VSC flags and J̄; :attr:`snapshot` what is drawn now.
     """
