@@ -98,3 +98,94 @@ def test_serves_on_loopback_and_prints_its_url(monkeypatch, capsys):
     main(["view", "bayle-rrp", "--port", "0"])
     ((url, status),) = seen
     assert url.startswith("http://127.0.0.1:") and status == 200
+
+
+def _shape(wxyz, scale) -> np.ndarray:
+    """R diag(s²) Rᵀ of a drawn ellipsoid node (independent of the signs and order of its axes)."""
+    import viser.transforms as vtf
+
+    r = vtf.SO3(np.asarray(wxyz)).as_matrix()
+    return r @ np.diag(np.asarray(scale) ** 2) @ r.T
+
+
+def test_tiago_dynamic_ellipsoid_is_the_one_of_its_urdf_inertials_and_effort_limits(monkeypatch, capsys):
+    """`mobman view tiago --dynamic --q …`: the red node is the ellipsoid of the tool's accelerations at rest from
+    TIAGo's URDF inertials and effort limits (mobman.dynamics, checked there against Pinocchio), drawn at the
+    tool shifted by its centre (gravity) in the drawing's scale."""
+    import mobman.cli.view as view
+    import mobman.viz.viewer as viewer_module
+    from mobman.dynamics import DynamicModel
+    from mobman.dynamics.ellipsoids import dynamic_ellipsoid
+    from mobman.io.real_robots import urdf_model
+    from mobman.model.task import Position
+
+    served = []
+
+    class Recorder(viewer_module.Viewer):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            served.append(self)
+
+    def stop(_seconds):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(viewer_module, "Viewer", Recorder)
+    monkeypatch.setattr(view.time, "sleep", stop)
+    # heading exactly π/2, arm_1 at π/2, arm_4 at its lower limit (q = x, y, θ, torso, arm_1 … arm_7)
+    q = np.array([0.4, -0.2, np.pi / 2, 0.2, np.pi / 2, -1.2, -2.0, -0.32, 1.0, -1.0, 0.5])
+    main(["view", "tiago", "--dynamic", "--q", ",".join(repr(float(v)) for v in q), "--port", "0"])
+    assert "mobman view: tiago at http://127.0.0.1:" in capsys.readouterr().out
+    (v,) = served
+    assert {"/ellipsoid", "/ellipsoid_dynamic"} <= set(v.nodes)
+    model = urdf_model("tiago")
+    # a block of the viewer's size: the dynamics compiled for the viewer serve here too
+    block = np.broadcast_to(q, (viewer_module.CHUNK, q.size))
+    e = dynamic_ellipsoid(DynamicModel.from_urdf(model), block, model.torque_limits(), task=Position("xyz"))
+    axes, directions, centre = e.axes[0], e.directions[0], np.asarray(e.center)[0]
+    np.testing.assert_allclose(v.snapshot.dynamic[1][0, 0], axes, rtol=1e-9)
+    node = v.nodes["/ellipsoid_dynamic"]
+    factor = max(node.scale) / axes[0]
+    shape = directions @ np.diag(axes**2) @ directions.T
+    np.testing.assert_allclose(
+        _shape(node.wxyz, node.scale), factor**2 * shape, atol=1e-9 * factor**2 * shape.max()
+    )
+    tool = np.asarray(v.nodes["/robot/arm_tool_link/tool"].position)
+    np.testing.assert_allclose(node.position, tool + factor * centre, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("robot", "message"),
+    [
+        ("stretch", "--dynamic: stretch: the URDF gives no effort limit for wheel_right, wheel_left"),
+        ("bayle-rrp", "robot bayle-rrp: --dynamic needs a dynamic model"),
+        ("arm.urdf", "--dynamic: DynamicModel: arm 0 (tool) joint 0 (j1) has no inertial"),
+    ],
+)
+def test_dynamic_without_inertials_or_effort_limits_is_one_line(
+    robot, message, tmp_path, monkeypatch, capsys
+):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "arm.urdf").write_text(URDF_WITHOUT_LINK_INERTIALS)
+    urdf = ["--tip", "tool"] if robot.endswith(".urdf") else []
+    code, err = _run(["view", robot, *urdf, "--dynamic", "--port", "0"], capsys)
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1
+
+
+URDF_WITHOUT_LINK_INERTIALS = """<robot name="bare">
+  <link name="base_footprint"><inertial><mass value="20"/><origin xyz="0 0 0.1"/>
+    <inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="wheel_right"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><cylinder radius="0.1" length="0.03"/></geometry></collision></link>
+  <link name="wheel_left"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><cylinder radius="0.1" length="0.03"/></geometry></collision></link>
+  <joint name="wheel_right_joint" type="continuous"><parent link="base_footprint"/><child link="wheel_right"/>
+    <origin xyz="0 -0.2 0.1" rpy="-1.5708 0 0"/><axis xyz="0 0 1"/><limit effort="5" velocity="10"/></joint>
+  <joint name="wheel_left_joint" type="continuous"><parent link="base_footprint"/><child link="wheel_left"/>
+    <origin xyz="0 0.2 0.1" rpy="-1.5708 0 0"/><axis xyz="0 0 1"/><limit effort="5" velocity="10"/></joint>
+  <link name="upper"/>
+  <link name="tool"/>
+  <joint name="j1" type="revolute"><parent link="base_footprint"/><child link="upper"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="10" velocity="1"/></joint>
+  <joint name="j2" type="fixed"><parent link="upper"/><child link="tool"/><origin xyz="0.4 0 0"/></joint>
+</robot>
+"""

@@ -18,6 +18,7 @@ from mobman.errors import InputError
 from mobman.io import trajectories
 from mobman.model import robots
 from mobman.model.visual import Visual
+from mobman.viz import viewer as viewer_module
 from mobman.viz.viewer import Viewer
 
 CHROMIUM_ARGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
@@ -240,10 +241,55 @@ def test_several_motions_one_chosen_by_label(tmp_path):
             v.load_results(tmp_path, motion="jump")
 
 
+def test_two_arm_robot_gets_an_ellipsoid_and_the_measures_at_each_tool():
+    """tiago-dual: at each arm's tool the ellipsoid {J̄ₚ η : ‖η‖ ≤ 1} of that tool's position (J̄ₚ = ∂p/∂q S by
+    central differences of the drawn tool frames, S of the differential drive in closed form), one drawing factor
+    for both arms, and w, w2, w5 of each J̄ₚ in the panel (NumPy SVD)."""
+    import viser.transforms as vtf
+
+    from mobman import kinematics
+
+    robot = robots.build("tiago-dual")
+    lower, upper = (np.array(v) for v in zip(*robot.position_limits))
+    rng = np.random.default_rng(3)
+    q = np.concatenate([[0.3, -0.4, np.pi], rng.uniform(lower[3:], upper[3:])])
+    q[3], q[12] = np.pi / 2, np.pi  # arm_right_1 at its upper limit, arm_left_3 at π
+    h = 1e-6
+    steps = np.concatenate([q + h * np.eye(robot.n_q), q - h * np.eye(robot.n_q)])
+    # padded to a block of the viewer's size: the frames compiled for the viewer serve here too
+    steps = np.concatenate([steps, np.broadcast_to(q, (viewer_module.CHUNK - len(steps), robot.n_q))])
+    tools = [np.asarray(p)[:, -1] for _, p in kinematics.frames(robot, steps).links]
+    s = np.zeros((robot.n_q, robot.n_eta))
+    s[0, 0], s[1, 0], s[2, 1] = np.cos(q[2]), np.sin(q[2]), 1.0
+    s[3:, 2:] = np.eye(robot.n_q - 3)
+    labels = ("arm_right_tool_link", "arm_left_tool_link")
+    with Viewer(robot, port=0) as v:
+        v.show(q)
+        assert "/ellipsoid" not in v.nodes and "/ellipsoid_dynamic" not in v.nodes
+        factors = []
+        for tool, label in zip(tools, labels):
+            j_p = ((tool[: robot.n_q] - tool[robot.n_q : 2 * robot.n_q]) / (2 * h)).T @ s
+            sigma = np.linalg.svd(j_p, compute_uv=False)
+            node = v.nodes[f"/ellipsoid_{label}"]
+            np.testing.assert_allclose(node.position, v.nodes[f"/robot/{label}/tool"].position, atol=1e-12)
+            factors.append(max(node.scale) / sigma[0])
+            r = vtf.SO3(np.asarray(node.wxyz)).as_matrix()
+            drawn = r @ np.diag(np.asarray(node.scale) ** 2) @ r.T / factors[-1] ** 2
+            np.testing.assert_allclose(drawn, j_p @ j_p.T, rtol=1e-6, atol=1e-6 * sigma[0] ** 2)
+            measures = v.snapshot.measures
+            np.testing.assert_allclose(measures[f"w (J̄ₚ {label})"][0], np.prod(sigma), rtol=1e-6)
+            np.testing.assert_allclose(measures[f"w2 (J̄ₚ {label})"][0], sigma[-1] / sigma[0], rtol=1e-6)
+            np.testing.assert_allclose(
+                measures[f"w5 (J̄ₚ {label})"][0], np.sqrt(1 - (sigma[-1] / sigma[0]) ** 2), rtol=1e-6
+            )
+            assert f"w (J̄ₚ {label})" in v.measures_md.content
+        np.testing.assert_allclose(factors[0], factors[1], rtol=1e-6)
+
+
 @pytest.mark.slow  # compiles the reduced dynamics of a two-arm robot for a block of configurations
 def test_dynamic_ellipsoid_is_drawn_where_a_dynamic_model_exists():
-    """yamamoto-dual-arm with its dynamic model: the red ellipsoid's axes follow the accelerations reachable at
-    rest (Yamamoto & Yun eq. 27–38, computed by mobman.dynamics and checked there against Pinocchio)."""
+    """yamamoto-dual-arm with its dynamic model: each arm's red ellipsoid's axes follow the accelerations of its
+    tool reachable at rest (Yamamoto & Yun eq. 27–38, computed by mobman.dynamics and checked there against Pinocchio)."""
     from mobman.dynamics import yamamoto_model
     from mobman.dynamics.ellipsoids import dynamic_ellipsoid
     from mobman.experiments.yamamoto1999 import torque_limits
@@ -256,10 +302,16 @@ def test_dynamic_ellipsoid_is_drawn_where_a_dynamic_model_exists():
         drawn = []
         for q in qs:
             v.show(q)
-            drawn.append(np.asarray(v.nodes["/ellipsoid_dynamic"].scale))
+            drawn.append([np.asarray(v.nodes[f"/ellipsoid_dynamic_arm{i}"].scale) for i in (1, 2)])
+            for i in (1, 2):
+                np.testing.assert_allclose(
+                    v.nodes[f"/ellipsoid_dynamic_arm{i}"].position, v.nodes[f"/robot/arm{i}/tool"].position
+                )
+    # each arm's ellipsoid, both in the one drawing scale of the session
+    expected = [dynamic_ellipsoid(model, qs, limits, task=Position("xyz", arm=i)).axes for i in (0, 1)]
+    for k in (0, 1):
+        for i in (0, 1):
             np.testing.assert_allclose(
-                v.nodes["/ellipsoid_dynamic"].position, v.nodes["/robot/arm1/tool"].position
+                drawn[k][i] / drawn[0][0][0], expected[i][k] / expected[0][0][0], rtol=1e-6, atol=1e-3
             )
-    expected = dynamic_ellipsoid(model, qs, limits, task=Position("xyz")).axes
-    np.testing.assert_allclose(drawn[1] / drawn[0][0], expected[1] / expected[0][0], rtol=1e-6, atol=1e-3)
-    assert abs(drawn[1][0] - drawn[0][0]) > 0.01 * drawn[0][0]
+    assert abs(drawn[1][0][0] - drawn[0][0][0]) > 0.01 * drawn[0][0][0]

@@ -1,10 +1,12 @@
-"""Parsing helpers shared by the commands: robot names, NAME=VALUE parameters, vectors, CSV files."""
+"""Parsing helpers shared by the commands: robot names (and their dynamic models), NAME=VALUE parameters,
+vectors, CSV files."""
 
 from __future__ import annotations
 
 import csv
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import typer
@@ -15,6 +17,9 @@ from mobman.io.numbers import parse_number, parse_vector
 from mobman.io.spec import read_text
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import build
+
+if TYPE_CHECKING:
+    from mobman.dynamics import DynamicModel
 
 
 def parse_params(items: list[str] | None) -> dict[str, float]:
@@ -100,6 +105,44 @@ def load_robot(name: str, params: list[str] | None = None, urdf: dict | None = N
             raise InputError("--param applies to built-in robots; edit the robot file instead")
         return robot_file.load(name)
     return build(name, **parse_params(params))
+
+
+def load_dynamics(
+    name: str, robot: MobileManipulator, option: str, urdf: dict | None = None
+) -> tuple["DynamicModel", np.ndarray]:
+    """The dynamic model of the robot ``name`` (as :func:`load_robot` reads it, ``robot``) and its actuators'
+    torque limits (N·m: wheels, then joints), for the command-line option ``option`` that asks for them.
+
+    A URDF file and the built-in real robots (``tiago``, ``tiago-dual``, ``stretch``): the URDF's inertials
+    and effort limits, gravity 9.81 m/s²; ``yamamoto-dual-arm``: Yamamoto & Yun's Tables 1–2 (horizontal motion,
+    no gravity). Anything else, or a URDF without an inertial or effort limit: ModelError naming what is missing.
+    """
+    from mobman.dynamics import DynamicModel, yamamoto_platform
+    from mobman.errors import ModelError
+    from mobman.io.real_robots import REAL_ROBOTS, urdf_model
+
+    key = name.replace("_", "-")
+    if name.endswith(".urdf") or key in REAL_ROBOTS:
+        from mobman.io.urdf import read_urdf
+
+        try:
+            model = (
+                urdf_model(key)
+                if key in REAL_ROBOTS
+                else read_urdf(name, **{k: v for k, v in (urdf or {}).items() if v})
+            )
+            return DynamicModel.from_urdf(model), model.torque_limits()
+        except ModelError as exc:
+            raise ModelError(f"{option}: {exc}") from None
+    if key != "yamamoto-dual-arm":
+        raise ModelError(
+            f"robot {name}: {option} needs a dynamic model (platform, wheel and link inertials and torque "
+            f"limits): a URDF file with them, or one of yamamoto-dual-arm, {', '.join(REAL_ROBOTS)}"
+        )
+    from mobman.experiments.yamamoto1999 import torque_limits
+
+    body, wheel = yamamoto_platform()
+    return DynamicModel(robot, body, wheel, None, (0.0, 0.0, 0.0)), torque_limits(robot)
 
 
 def read_configurations(path: Path, robot: MobileManipulator) -> np.ndarray:

@@ -5,8 +5,8 @@
 the joint rates). ``--kind dynamic``: the task accelerations reachable with every actuator torque
 within its maximum (eq. 27–38), from rest or, with ``--eta``, at the given quasi-velocities (the velocity
 terms shift the centre, μ_o); it needs the robot's dynamic model (inertials of the platform, wheels and
-links) and its torque limits, built in for ``yamamoto-dual-arm`` (Tables 1–2) and the real robots (their URDF
-inertials and effort limits) — other robots get a one-line error. ``--held``: the ellipsoid of an object held rigidly by all arms (coordinates x_o, y_o, angle_o), at the
+links) and its torque limits, built in for ``yamamoto-dual-arm`` (Tables 1–2), the real robots and URDF files (their
+inertials and effort limits; :func:`mobman.cli.common.load_dynamics`) — other robots get a one-line error. ``--held``: the ellipsoid of an object held rigidly by all arms (coordinates x_o, y_o, angle_o), at the
 centroid of the tool points; with ``--grasp point`` the hands hold it at one point through pivots (x_o, y_o).
 
 Printed: principal semi-axes (major first), their unit directions (in the task coordinates), the centre and
@@ -25,42 +25,16 @@ from rich.table import Table
 
 from mobman import kinematics as K
 from mobman.cli.app import app
-from mobman.cli.common import load_robot
+from mobman.cli.common import load_dynamics, load_robot
 from mobman.cli.limits import STRICT_HELP, outside_limits
-from mobman.dynamics import DynamicModel, yamamoto_platform
 from mobman.dynamics.ellipsoids import GRASPS, Ellipsoid, dynamic_ellipsoid, grasp_task, kinematic_ellipsoid
 from mobman.dynamics.grasp import HeldObject
-from mobman.errors import InputError, ModelError
+from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
-from mobman.io.real_robots import REAL_ROBOTS, urdf_model
-from mobman.model.robot import MobileManipulator
 
 KINDS = ("kinematic", "dynamic")
 METHODS = ("exact", "paper")
-DYNAMIC_ROBOTS = ("yamamoto-dual-arm", *REAL_ROBOTS)
-
-
-def dynamic_model(name: str, robot: MobileManipulator) -> tuple[DynamicModel, np.ndarray]:
-    """The built-in dynamic model of robot ``name`` (with its parameters) and its actuator torque limits (N·m).
-
-    ``yamamoto-dual-arm`` (Tables 1–2, horizontal motion: no gravity) and the real robots (``tiago``,
-    ``tiago-dual``, ``stretch``: the URDF's inertials and effort limits, gravity 9.81 m/s²) have one; any other
-    robot → ModelError.
-    """
-    key = name.replace("_", "-")
-    if key in REAL_ROBOTS:
-        model = urdf_model(key)
-        return DynamicModel.from_urdf(model), model.torque_limits()
-    if key not in DYNAMIC_ROBOTS:
-        raise ModelError(
-            f"robot {name}: --kind dynamic needs a dynamic model (platform, wheel and link inertials and torque "
-            f"limits); built-in dynamic models: {', '.join(DYNAMIC_ROBOTS)}"
-        )
-    from mobman.experiments.yamamoto1999 import torque_limits
-
-    body, wheel = yamamoto_platform()
-    return DynamicModel(robot, body, wheel, None, (0.0, 0.0, 0.0)), torque_limits(robot)
 
 
 def ellipsoid_report(e: Ellipsoid) -> dict:
@@ -133,7 +107,7 @@ def ellipsoid_command(
     if kind == "kinematic":
         e = kinematic_ellipsoid(robot, configuration, held=held, grasp=grasp)
     else:
-        model, limits = dynamic_model(robot_name, robot)
+        model, limits = load_dynamics(robot_name, robot, "--kind dynamic")
         obj = None
         if held:
             obj = HeldObject(

@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 
 from mobman.cli.app import app
-from mobman.cli.common import load_robot, parse_vector
+from mobman.cli.common import load_dynamics, load_robot, parse_vector
 from mobman.errors import InputError
 
 
@@ -33,12 +33,20 @@ def view_command(
         False, "--normalized", help="Ellipsoid of J̄ · diag(η_max) (needs velocity limits)."
     ),
     dynamic: bool = typer.Option(
-        False, "--dynamic", help="Also the dynamic ellipsoid (robots with a built-in dynamic model)."
+        False,
+        "--dynamic",
+        help="Also the dynamic ellipsoid (URDF inertials and effort limits, or yamamoto-dual-arm).",
     ),
     screenshot_path: Path | None = typer.Option(
         None, "--screenshot", help="Render one PNG headless (chromium) into this file and exit."
     ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
+    tip: list[str] | None = typer.Option(
+        None, "--tip", help="URDF file: end-effector link, one per arm (default arm_tool_link)."
+    ),
+    base: str | None = typer.Option(
+        None, "--base", help="URDF file: the platform link (default base_footprint)."
+    ),
 ) -> None:
     """Serve a 3D view of a robot, a configuration or a run's motions in the browser."""
     from mobman.io import trajectories
@@ -52,21 +60,23 @@ def view_command(
 
     if not 0 <= port <= 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
+    results_as_robot = False
+    urdf = {"tip": tip, "base": base}
     if _is_results(robot_name):
         if results is not None:
             raise InputError("give the results either as ROBOT or with --results, not both")
         results = Path(robot_name)
+        results_as_robot = True
         robot = robot_of(trajectories.read(results)[0])
     else:
-        robot = load_robot(robot_name, params)
+        robot = load_robot(robot_name, params, urdf)
     configuration = None if q is None else parse_vector(q, "--q", robot.n_q)
     if results is not None:
         motions_of(robot, results)  # a results file of another robot: said before serving anything
     dynamics = None
     if dynamic:
-        from mobman.cli.ellipsoid import dynamic_model
-
-        dynamics = dynamic_model(robot.name, robot)
+        # a results folder names its robot; a URDF file is read again for its inertials and effort limits
+        dynamics = load_dynamics(robot.name if results_as_robot else robot_name, robot, "--dynamic", urdf)
     viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
     try:
         if results is not None:

@@ -6,10 +6,11 @@ holds the measures w, w2, w5 of J̄ = J S (Bayle et al. 2003, eq. 2; Nait-Chaban
 reduced Jacobian itself with the kinematic / velocity singularity flags KSC / VSC (Bayle §3, §4.2), joint
 sliders, and for a motion a time slider, play / pause and the measures plotted against time.
 
-The ellipsoid drawn at the end effector is the kinematic manipulability ellipsoid {J̄_p η : ‖η‖ ≤ 1} of the
-position rows J̄_p of J̄ (Nait-Chabane §3.1), or with ``normalized=True`` that of J̄_p · diag(η_max) (eq. 23),
-scaled by one constant factor for the whole session so that its changes of size show. Given a dynamic model, the
-dynamic ellipsoid of the tool's accelerations at rest is drawn too (Yamamoto & Yun 1999, eq. 27–38).
+The ellipsoid drawn at each arm's tool is the kinematic manipulability ellipsoid {J̄_p η : ‖η‖ ≤ 1} of the
+reduced Jacobian J̄_p of that tool's position (Nait-Chabane §3.1), or with ``normalized=True`` that of
+J̄_p · diag(η_max) (eq. 23), scaled by one constant factor for the whole session so that its changes of size
+show. Given a dynamic model, the dynamic ellipsoid of each tool's accelerations at rest is drawn too (Yamamoto &
+Yun 1999, eq. 27–38). A robot with several arms also gets the measures of each arm's J̄_p in the panel.
 
 Links are drawn from the robot's :class:`~mobman.model.visual.Visual` shapes (URDF meshes, boxes, cylinders,
 spheres); a robot without them gets cylinders between successive joint origins, and a platform body and wheels
@@ -19,6 +20,7 @@ from its dimensions. Importing this module needs the ``viewer`` extra (viser, tr
 from __future__ import annotations
 
 import importlib
+import itertools
 import socket
 import threading
 import time
@@ -67,7 +69,8 @@ factor then stays fixed."""
 @dataclass(frozen=True)
 class Snapshot:
     """What the viewer draws for a batch of configurations (leading axis T): the frames (platform pose, joint
-    and tool frames of each arm), the ellipsoid (centre, semi-axes, directions), J̄, the measures and the flags."""
+    and tool frames of each arm), the ellipsoid at each arm's tool (centre (T, A, 3), semi-axes (T, A, 3),
+    directions (T, A, 3, 3) for A arms), J̄, the measures and the flags."""
 
     q: np.ndarray
     platform: tuple[np.ndarray, np.ndarray]
@@ -82,7 +85,8 @@ class Snapshot:
     defined: np.ndarray
     """False where J (so J̄, the measures and the flags) is undefined: the task is not differentiable there."""
     dynamic: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
-    """The dynamic ellipsoid of the tool's accelerations at rest (centre, semi-axes, directions), when drawn."""
+    """The dynamic ellipsoid of each tool's accelerations at rest (centre, semi-axes, directions; arm axis
+    second, as for the kinematic one), when drawn."""
 
     def at(self, k: int) -> "Snapshot":
         """The k-th configuration, as a batch of one."""
@@ -95,7 +99,7 @@ def evaluate(
     """Everything the viewer draws for configurations q (T, n_q), computed in blocks of :data:`CHUNK`
     configurations (one compilation per robot serves a single configuration and a whole motion).
 
-    ``dynamics`` = (DynamicModel, torque limits): also the dynamic ellipsoid of the tool position's
+    ``dynamics`` = (DynamicModel, torque limits): also the dynamic ellipsoid of each tool position's
     accelerations at rest (Yamamoto & Yun eq. 27–38, :func:`mobman.dynamics.ellipsoids.dynamic_ellipsoid`)."""
     q = robot.validate_q(np.atleast_2d(q))
     blocks = [_evaluate(robot, q[k : k + CHUNK], normalized, dynamics) for k in range(0, len(q), CHUNK)]
@@ -109,8 +113,9 @@ def _evaluate(
     padded = np.concatenate([q, np.broadcast_to(q[-1], (CHUNK - n, q.shape[1]))])
     frames = kinematics.frames(robot, padded)
     jbar = np.asarray(kinematics.reduced_jacobian(robot, padded))
-    j_p = np.asarray(kinematics.reduced_jacobian(robot, padded, Position("xyz")))
     limits = robot.velocity_limits
+    tools = [Position("xyz", arm=i) for i in range(len(robot.arms))]
+    j_p = np.stack([np.asarray(kinematics.reduced_jacobian(robot, padded, tool)) for tool in tools], axis=1)
     if normalized:
         j_p = j_p * np.asarray(limits)
     axes, directions = (np.asarray(a) for a in manipulability.ellipsoid(j_p))
@@ -120,6 +125,16 @@ def _evaluate(
     measures = {f"{s} (J̄)": v for s, v in _measures(jbar, rank).items()}
     if limits is not None:
         measures.update({f"{s} (J̄_N)": v for s, v in _measures(jbar * np.asarray(limits), rank).items()})
+    if len(tools) > 1:
+        symbol = "J̄ₚ·η_max" if normalized else "J̄ₚ"
+        for i, (tool, label) in enumerate(zip(tools, arm_labels(robot))):
+            generic = redundancy.redundancy_report(robot, tool).D_bar  # below 3: a planar arm, say
+            measures.update(
+                {
+                    f"{s} ({symbol} {label})": v
+                    for s, v in _measures(j_p[:, i], generic if generic < 3 else None).items()
+                }
+            )
     jac = np.asarray(kinematics.jacobian(robot, padded))
     # where the task is not differentiable (an angle at its branch point) J holds NaN: no rank, no flags
     defined = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
@@ -129,13 +144,16 @@ def _evaluate(
     dynamic = None
     if dynamics is not None:
         model, torque_limits = dynamics
-        e = ellipsoids.dynamic_ellipsoid(model, padded, torque_limits, task=Position("xyz"))
-        dynamic = (np.asarray(e.center), e.axes, e.directions)
+        each = [ellipsoids.dynamic_ellipsoid(model, padded, torque_limits, task=tool) for tool in tools]
+        dynamic = tuple(
+            np.stack([np.asarray(getattr(e, part)) for e in each], axis=1)
+            for part in ("center", "axes", "directions")
+        )
     snap = Snapshot(
         padded,
         tuple(np.asarray(a) for a in frames.platform),
         links,
-        links[0][1][:, -1],
+        np.stack([p[:, -1] for _, p in links], axis=1),
         axes,
         directions,
         jbar,
@@ -150,6 +168,19 @@ def _evaluate(
 
 def _measures(j: np.ndarray, rank: int | None) -> dict[str, np.ndarray]:
     return {MEASURES[k]: np.asarray(v) for k, v in manipulability.measures(j, rank).items()}
+
+
+def arm_labels(robot: MobileManipulator) -> list[str]:
+    """The arms' names as scene node names (``arm1``, ``arm2``, … where two arms share a name)."""
+    labels = [_node_name(a.name) for a in robot.arms]
+    return labels if len(set(labels)) == len(labels) else [f"arm{i + 1}" for i in range(len(labels))]
+
+
+def ellipsoid_node(kind: str, robot: MobileManipulator, arm: int) -> str:
+    """The scene node of arm ``arm``'s ellipsoid, ``kind`` "kinematic" or "dynamic": ``/ellipsoid`` and
+    ``/ellipsoid_dynamic`` for a one-arm robot, suffixed ``_<arm label>`` (:func:`arm_labels`) for several arms."""
+    name = "/ellipsoid" if kind == "kinematic" else "/ellipsoid_dynamic"
+    return name if len(robot.arms) == 1 else f"{name}_{arm_labels(robot)[arm]}"
 
 
 def robot_of(motion: trajectories.Motion) -> MobileManipulator:
@@ -322,8 +353,9 @@ class Viewer:
     >>> viewer.show([0, 0, 0, 0.3, 0.5, 0.4])  # doctest: +SKIP
     >>> viewer.close()  # doctest: +SKIP
 
-    ``normalized=True`` draws the ellipsoid of J̄_p · diag(η_max) (the robot needs velocity limits).
-    :attr:`nodes` maps scene node names to their viser handles; :attr:`time_slider` is the time slider of a
+    ``normalized=True`` draws the ellipsoid of J̄_p · diag(η_max) (the robot needs velocity limits); ``dynamics``
+    adds the dynamic ellipsoid at each tool. :attr:`nodes` maps scene node names to their viser handles (the
+    ellipsoids' names: :func:`ellipsoid_node`); :attr:`time_slider` is the time slider of a
     loaded motion (None before :meth:`load_results`); :attr:`measures_md`, :attr:`flags_html` and
     :attr:`jbar_md` are the panel's measures, KSC / VSC flags and J̄; :attr:`snapshot` what is drawn now.
     """
@@ -466,7 +498,7 @@ class Viewer:
         unit = trimesh.creation.cylinder(radius=self._radius, height=1.0, sections=20)
         unit.apply_translation((0.0, 0.0, 0.5))
         ball = trimesh.creation.icosphere(subdivisions=2, radius=1.4 * self._radius)
-        for arm, label in zip(robot.arms, self._arm_labels()):
+        for arm, label in zip(robot.arms, arm_labels(robot)):
             names, generated = [], []
             for joint, coordinate in zip(arm.joints, arm.coordinate_names):
                 node = f"/robot/{label}/{_node_name(joint.name or coordinate)}"
@@ -488,8 +520,9 @@ class Viewer:
             self._arm_nodes.append(names)
             self._generated.append(generated)
         sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
-        shown = ("/ellipsoid", ELLIPSOID_COLOR), ("/ellipsoid_dynamic", DYNAMIC_COLOR)
-        for name, color in shown[: 2 if self.dynamics is not None else 1]:
+        shown = (("kinematic", ELLIPSOID_COLOR), ("dynamic", DYNAMIC_COLOR))[: 2 if self.dynamics else 1]
+        for (kind, color), arm in itertools.product(shown, range(len(robot.arms))):
+            name = ellipsoid_node(kind, robot, arm)
             self._keep(
                 scene.add_mesh_simple(
                     name, sphere.vertices, sphere.faces, color=color, opacity=0.35, cast_shadow=False
@@ -504,10 +537,6 @@ class Viewer:
         camera = self.server.initial_camera
         camera.look_at = centre
         camera.position = centre + extent * np.array([0.7, -1.0, 0.65])
-
-    def _arm_labels(self) -> list[str]:
-        labels = [_node_name(a.name) for a in self.robot.arms]
-        return labels if len(set(labels)) == len(labels) else [f"arm{i + 1}" for i in range(len(labels))]
 
     def _draw(self, snap: Snapshot) -> None:
         """Move every node to the poses of a one-configuration snapshot and refresh the panel."""
@@ -530,30 +559,34 @@ class Viewer:
         self._update_panel(snap)
 
     def _draw_ellipsoid(self, snap: Snapshot) -> None:
-        self._draw_one("/ellipsoid", snap.centre[0], snap.axes[0], snap.directions[0])
-        if snap.dynamic is not None:
-            centre, axes, directions = snap.dynamic
-            self._draw_one("/ellipsoid_dynamic", snap.centre[0], axes[0], directions[0], centre[0])
+        for arm in range(len(self.robot.arms)):
+            self._draw_one("kinematic", arm, snap.centre[0], snap.axes[0], snap.directions[0])
+            if snap.dynamic is not None:
+                centre, axes, directions = snap.dynamic
+                self._draw_one("dynamic", arm, snap.centre[0], axes[0], directions[0], centre[0, arm])
 
     def _draw_one(
         self,
-        name: str,
+        kind: str,
+        arm: int,
         at: np.ndarray,
         axes: np.ndarray,
         directions: np.ndarray,
         offset: np.ndarray | None = None,
     ) -> None:
-        """An ellipsoid node at ``at`` (+ its own centre ``offset``, in the drawing's scale): one drawing factor
-        per ellipsoid for the whole session, set by the first configuration shown."""
-        directions = directions.copy()
+        """Arm ``arm``'s ellipsoid node of ``kind`` at its tool ``at[arm]`` (+ its own centre ``offset``, in the
+        drawing's scale), from the semi-axes and directions of every arm: one drawing factor per kind for the
+        whole session, set by the largest semi-axis of the first configuration shown (the arms' ellipsoids
+        compare)."""
+        if kind not in self._ellipsoid_factor and np.isfinite(axes).all():
+            self._ellipsoid_factor[kind] = ELLIPSOID_SIZE * self._reach / max(float(np.max(axes)), 1e-9)
+        at, axes, directions = at[arm], axes[arm], directions[arm].copy()
         finite = bool(np.isfinite(axes).all() and np.isfinite(directions).all())
-        if name not in self._ellipsoid_factor and finite:
-            self._ellipsoid_factor[name] = ELLIPSOID_SIZE * self._reach / max(float(axes[0]), 1e-9)
-        node = self.nodes[name]
-        node.visible = finite and name in self._ellipsoid_factor
+        node = self.nodes[ellipsoid_node(kind, self.robot, arm)]
+        node.visible = finite and kind in self._ellipsoid_factor
         if not node.visible:
             return
-        factor = self._ellipsoid_factor[name]
+        factor = self._ellipsoid_factor[kind]
         if np.linalg.det(directions) < 0:
             directions[:, -1] *= -1.0
         node.position = at if offset is None else at + factor * offset
@@ -653,13 +686,12 @@ class Viewer:
         self._motion = evaluate(self.robot, motion.q, self.normalized, self.dynamics)
         self._times = motion.t
         scene = self.server.scene
-        ee = self._motion.centre
+        tools = self._motion.centre
         platform = self._motion.platform[1]
-        self._aim_camera(np.concatenate([ee, platform]))
-        for name, points, color in (
-            ("/paths/ee", ee, EE_PATH_COLOR),
-            ("/paths/platform", platform, PLATFORM_PATH_COLOR),
-        ):
+        self._aim_camera(np.concatenate([*np.swapaxes(tools, 0, 1), platform]))
+        suffixes = [""] if len(self.robot.arms) == 1 else [f"_{label}" for label in arm_labels(self.robot)]
+        paths = [(f"/paths/ee{s}", tools[:, i], EE_PATH_COLOR) for i, s in enumerate(suffixes)]
+        for name, points, color in [*paths, ("/paths/platform", platform, PLATFORM_PATH_COLOR)]:
             segments = (
                 np.stack([points[:-1], points[1:]], axis=1)
                 if len(points) > 1
@@ -752,4 +784,4 @@ class Viewer:
             time.sleep(max(0.0, period - (time.monotonic() - start)))
 
 
-__all__ = ["Snapshot", "Viewer", "evaluate", "motions_of", "robot_of"]
+__all__ = ["Snapshot", "Viewer", "arm_labels", "ellipsoid_node", "evaluate", "motions_of", "robot_of"]
