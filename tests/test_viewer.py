@@ -16,7 +16,7 @@ from playwright.sync_api import sync_playwright
 
 from mobman.errors import InputError
 from mobman.io import trajectories
-from mobman.model import robots
+from mobman.model import Elevation, PlanarAngle, Position, robots, stack
 from mobman.model.visual import Visual
 from mobman.viz import viewer as viewer_module
 from mobman.viz.viewer import Viewer
@@ -101,11 +101,11 @@ def test_time_moves_the_robot_and_resizes_the_ellipsoid_as_the_closed_form_says(
 
 
 def jacobians(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """J and J̄ = J S of bayle-rrp's task (tool position, heading θ + q4, elevation asin(sin q5)), by central
-    differences."""
+    """J and J̄ = J S of bayle-rrp's task (tool position, heading ξ4 = θ + q4, elevation ξ5 = q5: Bayle §5.2), by
+    central differences."""
 
     def task(q):
-        return np.concatenate([tool_position(q), [q[2] + q[3], np.arcsin(np.sin(q[4]))]])
+        return np.concatenate([tool_position(q), [q[2] + q[3], q[4]]])
 
     h = 1e-6
     jac = np.stack([(task(q + h * e) - task(q - h * e)) / (2 * h) for e in np.eye(6)], axis=1)
@@ -135,10 +135,21 @@ def test_configurations_update_jbar_and_the_singular_flags(viewer):
         assert w == pytest.approx(np.prod(np.linalg.svd(jbar, compute_uv=False)[:d_bar_max]), abs=1e-6)
         assert f"| w (J̄) | {w:.4g} |" in viewer.measures_md.content
         np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, tool_position(q), atol=1e-9)
-    # elevation = asin(sin q5) has a kink at q5 = π/2: J̄ is undefined there, and the panel says so
-    viewer.show(np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.5]))
-    assert not viewer.snapshot.defined[0] and "undefined" in viewer.flags_html.content
+    # the arm pointing straight up (q5 = π/2) is an ordinary configuration of Bayle's coordinates
+    up = np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.5])
+    viewer.show(up)
+    assert viewer.snapshot.defined[0] and "undefined" not in viewer.flags_html.content
+    np.testing.assert_allclose(viewer.snapshot.jbar[0], jacobians(up)[1], atol=1e-6)
     np.testing.assert_allclose(viewer.nodes["/robot/rrp/tool"].position, [0.0, 0.0, 0.5], atol=1e-12)
+
+
+def test_a_representation_singularity_is_shown_as_undefined():
+    """With the heading of the tool's x axis (ZYX yaw) as a coordinate, the arm pointing up has no heading:
+    J̄ is undefined there and the panel says so instead of showing flags."""
+    robot = robots.bayle_rrp().with_task(stack(Position("xyz"), PlanarAngle(), Elevation()))
+    with Viewer(robot, port=0) as v:
+        v.show(np.array([0.0, 0.0, 0.0, 0.3, np.pi / 2, 0.5]))
+        assert not v.snapshot.defined[0] and "undefined" in v.flags_html.content
 
 
 def test_visual_shapes_replace_the_generated_links(tmp_path):

@@ -83,7 +83,8 @@ class Snapshot:
     vsc: np.ndarray
     ksc: np.ndarray
     defined: np.ndarray
-    """False where J (so J̄, the measures and the flags) is undefined: the task is not differentiable there."""
+    """False where J (so J̄, the measures and the flags) is undefined: the task's coordinates are singular as a
+    representation there (:func:`mobman.kinematics.representation_singular`)."""
     dynamic: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     """The dynamic ellipsoid of each tool's accelerations at rest (centre, semi-axes, directions; arm axis
     second, as for the kinematic one), when drawn."""
@@ -136,8 +137,10 @@ def _evaluate(
                 }
             )
     jac = np.asarray(kinematics.jacobian(robot, padded))
-    # where the task is not differentiable (an angle at its branch point) J holds NaN: no rank, no flags
-    defined = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
+    # where the task's coordinates are singular as a representation (the heading of a vertical axis, a gimbal
+    # lock) J is not the derivative of a chart, and may hold NaN: no rank, no flags
+    finite = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
+    defined = finite & ~kinematics.representation_singular(robot, padded)
     d = kinematics.rank(np.where(defined[:, None, None], jac, 0.0), redundancy.RTOL)
     d_bar = kinematics.rank(np.where(defined[:, None, None], jbar, 0.0), redundancy.RTOL)
     links = tuple((np.asarray(r), np.asarray(p)) for r, p in frames.links)
