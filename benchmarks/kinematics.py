@@ -38,8 +38,8 @@ import numpy as np
 import mobman  # noqa: F401  (float64)
 from mobman import batching
 from mobman import manipulability as mp
-from mobman.model import Arm, DifferentialDrive, MobileManipulator
-from mobman.model.spatial import transform
+from mobman.model import MobileManipulator
+from mobman.model.robots import PANDA_LIMITS, PANDA_MODIFIED_DH, panda_differential
 from mobman.model.task import EulerAngles, Position, stack
 
 from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_flops
@@ -47,38 +47,13 @@ from timing import best_time, describe_structure, print_peak, program_structure,
 AGREEMENT = 1e-9
 """Largest difference from a reference implementation the benchmark accepts (it exits with an error above)."""
 
-# Franka Emika Panda, modified DH (Craig): rows (α_{i−1}, a_{i−1}, θ_i, d_i); flange 0.107 m along z.
-PANDA_A = (0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088)
-PANDA_D = (0.333, 0.0, 0.316, 0.0, 0.384, 0.0, 0.0)
-PANDA_ALPHA = (0.0, -math.pi / 2, math.pi / 2, math.pi / 2, -math.pi / 2, math.pi / 2, math.pi / 2)
-PANDA_LIMITS = (
-    (-2.8973, 2.8973),
-    (-1.7628, 1.7628),
-    (-2.8973, 2.8973),
-    (-3.0718, -0.0698),
-    (-2.8973, 2.8973),
-    (-0.0175, 3.7525),
-    (-2.8973, 2.8973),
-)
-PANDA_SPEEDS = (2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61)
+# Franka Emika Panda, modified DH (Craig) rows (α_{i−1}, a_{i−1}, θ_i, d_i), as mobman's built-in robot has them
+PANDA_ALPHA, PANDA_A, _, PANDA_D = zip(*PANDA_MODIFIED_DH)
 
 
 def panda_on_differential_base() -> MobileManipulator:
     """Panda (7 joints) on a differential base (v_max = 1 m/s, ω_max = 1.5 rad/s), task = position + ZYX."""
-    table = [(al, a, 0.0, d) for al, a, d in zip(PANDA_ALPHA, PANDA_A, PANDA_D)]
-    arm = Arm.from_modified_dh(
-        table,
-        tool=transform(None, (0.0, 0.0, 0.107)),
-        limits=PANDA_LIMITS,
-        velocity_limits=PANDA_SPEEDS,
-        name="panda",
-    )
-    return MobileManipulator(
-        DifferentialDrive(v_max=1.0, omega_max=1.5),
-        (arm,),
-        task=stack(Position("xyz"), EulerAngles("ZYX")),
-        name="panda-diff",
-    )
+    return panda_differential(height=0.0).with_task(stack(Position("xyz"), EulerAngles("ZYX")))
 
 
 def random_configurations(robot: MobileManipulator, n: int, seed: int = 0) -> np.ndarray:
