@@ -17,6 +17,7 @@ the wheels' spin inertia added to Pinocchio's).
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 import jax
@@ -152,6 +153,8 @@ def main(argv=None) -> int:
     print(
         f"TIAGo from its URDF, J̄ 6 × 10 + w, w2, w5; dynamics Sᵀ M S (10 × 10) + bias; device {jax.devices()[0].platform}"
     )
+    if hasattr(os, "getloadavg"):  # the ratios vary much less than the times with what else runs
+        print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     print(f"{'variant':58s} {'µs/config':>10s} {'Pinocchio / mobman':>19s}")
     rows = [
         ("J̄ + measures, batched (mobman)", t_batch, t_pin / t_batch),

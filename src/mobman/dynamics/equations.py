@@ -30,6 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman import kinematics
 from mobman.batching import across_cores, blocked
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
@@ -313,18 +314,16 @@ def _actuation(model, q):
 
 
 def validated_q(model: DynamicModel, q):
-    """Configurations of ``model``'s robot checked for shape and finiteness (traced values pass as they are)."""
-    if isinstance(q, jax.core.Tracer):
-        return q
-    return jnp.asarray(model.robot.validate_q(q))
+    """Configurations of ``model``'s robot checked for shape and finiteness (traced values pass as they are;
+    host values go to the compiled functions as NumPy arrays, a ``jax.Array`` stays where it is:
+    :func:`mobman.kinematics.validated_q`)."""
+    return kinematics.validated_q(model.robot, q)
 
 
 def _q_dot(model: DynamicModel, q_dot, name: str = "q_dot"):
     """A validated rate (q̇ or q̈) in the full coordinates; errors name the argument."""
-    if isinstance(q_dot, jax.core.Tracer):
-        return q_dot
     try:
-        return jnp.asarray(model.robot.validate_q(q_dot))
+        return kinematics.validated_q(model.robot, q_dot)
     except InputError as exc:
         raise InputError(f"{name}: {exc}") from None
 

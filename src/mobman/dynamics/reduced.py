@@ -23,6 +23,7 @@ from functools import partial
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from mobman.batching import across_cores, blocked
 from mobman.dynamics import equations as eq
@@ -110,6 +111,12 @@ def _terms(model, q, eta):
     return blocked(partial(reduced_terms_one, model))(q, eta)
 
 
+@across_cores({1: 1, 2: 1})
+@partial(jax.jit, static_argnums=(0,))
+def _bias(model, q, eta):
+    return blocked(partial(reduced_bias_one, model))(q, eta)
+
+
 @across_cores({1: 1})
 @partial(jax.jit, static_argnums=(0,))
 def _input(model, q):
@@ -143,16 +150,20 @@ def validated_eta(model: DynamicModel, value, name: str):
     (traced values pass as they are)."""
     if isinstance(value, jax.core.Tracer):
         return value
-    arr = jnp.asarray(value, dtype=float)
+    on_device = isinstance(value, jax.Array) and any(d.platform != "cpu" for d in value.devices())
+    # host values are checked by NumPy in place and passed on as NumPy arrays: an eager jnp test (two
+    # dispatches and a device-to-host wait) or a device_put costs more than a one-configuration compiled call
+    arr = value if on_device else np.asarray(value, dtype=float)
     n = model.robot.n_eta
     if arr.ndim == 0 or arr.shape[-1] != n:
         raise InputError(
             f"{name} must have {n} components ({', '.join(model.robot.control_names)}), "
             f"got shape {tuple(arr.shape)}"
         )
-    if not bool(jnp.all(jnp.isfinite(arr))):
+    finite = bool(jnp.all(jnp.isfinite(arr))) if on_device else bool(np.isfinite(arr).all())
+    if not finite:
         raise InputError(f"{name} contains NaN or infinite values")
-    return arr
+    return arr if arr.dtype == jnp.float64 else arr.astype(jnp.float64)
 
 
 def reduced_mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
@@ -162,7 +173,7 @@ def reduced_mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
 
 def reduced_bias(model: DynamicModel, q, eta) -> jnp.ndarray:
     """b(q, η) = Sᵀ M Ṡ η + Sᵀ (c + g), shape (..., n_eta) (−ξ of Yamamoto eq. 16)."""
-    return _terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))[1]
+    return _bias(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))
 
 
 def input_matrix(model: DynamicModel, q) -> jnp.ndarray:
