@@ -92,7 +92,7 @@ def test_time_moves_the_robot_and_resizes_the_ellipsoid_as_the_closed_form_says(
             viewer.nodes["/robot/platform"].position, [Q[k, 0], Q[k, 1], 0.0], atol=1e-12
         )
         scales.append(np.sort(np.asarray(viewer.nodes["/ellipsoid"].scale))[::-1])
-    # one drawing factor for the whole session: the drawn axes are proportional to the singular values
+    # one drawing factor for the viewer's lifetime: the drawn axes are proportional to the singular values
     for k, scale in zip((0, 10, 20), scales):
         np.testing.assert_allclose(
             scale / scales[0][0], semi_axes(Q[k]) / semi_axes(Q[0])[0], rtol=1e-6, atol=1e-3
@@ -318,7 +318,7 @@ def test_dynamic_ellipsoid_is_drawn_where_a_dynamic_model_exists():
                 np.testing.assert_allclose(
                     v.nodes[f"/ellipsoid_dynamic_arm{i}"].position, v.nodes[f"/robot/arm{i}/tool"].position
                 )
-    # each arm's ellipsoid, both in the one drawing scale of the session
+    # each arm's ellipsoid, both in the one drawing scale of the viewer
     expected = [dynamic_ellipsoid(model, qs, limits, task=Position("xyz", arm=i)).axes for i in (0, 1)]
     for k in (0, 1):
         for i in (0, 1):

@@ -8,7 +8,7 @@ sliders, and for a motion a time slider, play / pause and the measures plotted a
 
 The ellipsoid drawn at each arm's tool is the kinematic manipulability ellipsoid {J̄_p η : ‖η‖ ≤ 1} of the
 reduced Jacobian J̄_p of that tool's position (Nait-Chabane §3.1), or with ``normalized=True`` that of
-J̄_p · diag(η_max) (eq. 23), scaled by one constant factor for the whole session so that its changes of size
+J̄_p · diag(η_max) (eq. 23), scaled by one constant factor for the viewer's lifetime so that its changes of size
 show. Given a dynamic model, the dynamic ellipsoid of each tool's accelerations at rest is drawn too (Yamamoto &
 Yun 1999, eq. 27–38). A robot with several arms also gets the measures of each arm's J̄_p in the panel.
 
@@ -579,7 +579,7 @@ class Viewer:
     ) -> None:
         """Arm ``arm``'s ellipsoid node of ``kind`` at its tool ``at[arm]`` (+ its own centre ``offset``, in the
         drawing's scale), from the semi-axes and directions of every arm: one drawing factor per kind for the
-        whole session, set by the largest semi-axis of the first configuration shown (the arms' ellipsoids
+        viewer's lifetime, set by the largest semi-axis of the first configuration shown (the arms' ellipsoids
         compare)."""
         if kind not in self._ellipsoid_factor and np.isfinite(axes).all():
             self._ellipsoid_factor[kind] = ELLIPSOID_SIZE * self._reach / max(float(np.max(axes)), 1e-9)
