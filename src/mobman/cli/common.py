@@ -51,10 +51,13 @@ def available_memory() -> int | None:
         return None
 
 
-def check_steps(steps: int, values_per_step: int, field: str, max_steps: int = MAX_STEPS) -> None:
+def check_steps(
+    steps: int, values_per_step: int, field: str, max_steps: int = MAX_STEPS, held: int | None = None
+) -> None:
     """Refuse, before any work, a run of ``steps`` time steps storing ``values_per_step`` floats each that
-    exceeds ``max_steps`` (InputError naming ``--max-steps``) or the machine's available memory."""
-    need = steps * values_per_step * BYTES_PER_VALUE
+    exceeds ``max_steps`` (InputError naming ``--max-steps``) or the machine's available memory; ``held``:
+    the steps in memory at once for a run computed in pieces (default all of them)."""
+    need = (steps if held is None else held) * values_per_step * BYTES_PER_VALUE
     estimate = f"{steps:.3g} steps, about {_size(need)} of memory"
     if steps > max_steps:
         raise InputError(
