@@ -143,7 +143,9 @@ def _finite(value) -> bool:
     return not isinstance(value, float) or math.isfinite(value)
 
 
-def assert_contract(args: list[str]) -> None:
+def assert_contract(args: list[str], not_reached: bool = False) -> None:
+    """Exit 0 with finite JSON, or exit 2 with one ``error:`` line; with ``not_reached`` also exit 3 with the
+    report (saying it did not converge) and a last ``warning:`` line."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
@@ -153,6 +155,9 @@ def assert_contract(args: list[str]) -> None:
             code = exc.code
     if code == 0:
         assert _finite(json.loads(out.getvalue())), args
+    elif code == 3 and not_reached:
+        assert json.loads(out.getvalue())["converged"] is False, args
+        assert err.getvalue().strip().splitlines()[-1].startswith("warning: mobman "), (args, err.getvalue())
     else:
         lines = err.getvalue().strip().splitlines()
         assert code == 2 and len(lines) == 1 and lines[0].startswith("error: "), (args, code, err.getvalue())
@@ -178,6 +183,43 @@ number_text = st.one_of(
 )
 def test_configuration_values(text):
     assert_contract(["analyze", "bayle-planar", "--q", text, "--json"])
+
+
+vector_text = st.one_of(
+    st.lists(st.floats(-4.0, 4.0).map(repr), min_size=1, max_size=4).map(",".join),
+    st.lists(number_text, min_size=0, max_size=5).map(",".join),
+)
+
+
+@settings(FUZZ, max_examples=15)
+@given(
+    st.one_of(
+        st.lists(
+            st.floats(-4.0, 4.0).map(repr) | st.sampled_from(["pi", "-pi/2", "pi"]), min_size=5, max_size=5
+        ).map(",".join),
+        vector_text,
+    ),
+    st.sampled_from(["kinematic", "kinematic", "dynamic", "Kinematic", "", "ellipse"]),
+    st.none() | vector_text,
+)
+def test_ellipsoid_options(q, kind, eta):
+    args = ["ellipsoid", "bayle-planar", "--q", q, "--kind", kind, "--json"]
+    assert_contract(args + ([] if eta is None else ["--eta", eta]))
+
+
+@settings(FUZZ, max_examples=12)
+@given(
+    st.one_of(st.lists(st.floats(-3.0, 3.0).map(repr), min_size=3, max_size=3).map(",".join), vector_text),
+    st.none() | st.just("5,0,0,pi/6") | vector_text,
+    st.none() | st.sampled_from(["x3, theta + x1", "q[100]", "x9", "", "theta +", "2, 3 +", "phi"]),
+    st.sampled_from(["2", "2", "1", "-1", "101", "two"]),
+)
+def test_plan_options(target, start, extension, harmonics):
+    """Exit 3 (not converged within the 8 iterations) is the documented status of a plan that ends short."""
+    args = ["plan", "tchon-car-rtr", "--target", target, "--harmonics", harmonics, "--max-iterations", "8"]
+    args += [] if start is None else ["--start", start]
+    args += [] if extension is None else ["--algorithm", "extended", "--extension", extension]
+    assert_contract([*args, "--json"], not_reached=True)
 
 
 @settings(FUZZ, max_examples=40)

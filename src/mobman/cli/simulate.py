@@ -222,7 +222,7 @@ def simulate_command(
     if streamed:
         folder = results_folder(out, "simulate") if out is not None else contextlib.nullcontext(None)
         with folder as staging:
-            summary, last = stream(parsed, staging, quiet=json_output)
+            summary, last = stream(parsed, staging, quiet=json_output, chunk=STREAM_STEPS)
             summary["q_final"] = np.asarray(last.q[-1]).tolist()
             summary["outside_limits"] = outside
             if staging is not None:
