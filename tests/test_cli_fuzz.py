@@ -11,7 +11,7 @@ import tempfile
 import tomllib
 from pathlib import Path
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from mobman.cli import main
@@ -191,35 +191,64 @@ vector_text = st.one_of(
 )
 
 
-@settings(FUZZ, max_examples=15)
-@given(
-    st.one_of(
-        st.lists(
-            st.floats(-4.0, 4.0).map(repr) | st.sampled_from(["pi", "-pi/2", "pi"]), min_size=5, max_size=5
-        ).map(",".join),
-        vector_text,
-    ),
-    st.sampled_from(["kinematic", "kinematic", "dynamic", "Kinematic", "", "ellipse"]),
-    st.none() | vector_text,
-)
-def test_ellipsoid_options(q, kind, eta):
-    args = ["ellipsoid", "bayle-planar", "--q", q, "--kind", kind, "--json"]
-    assert_contract(args + ([] if eta is None else ["--eta", eta]))
+@st.composite
+def one_option_changed(draw, valid: dict, changes: dict) -> list[str]:
+    """Valid options ``valid`` with none or one of them changed (drawn from ``changes``), as arguments."""
+    options = dict(valid)
+    name = draw(st.sampled_from([None, *changes]))
+    if name is not None:
+        options[name] = draw(changes[name])
+    return [word for key, value in options.items() if value is not None for word in (key, value)]
+
+
+angles = st.floats(-4.0, 4.0).map(repr) | st.sampled_from(["pi", "-pi/2", "pi/2"])
 
 
 @settings(FUZZ, max_examples=12)
 @given(
-    st.one_of(st.lists(st.floats(-3.0, 3.0).map(repr), min_size=3, max_size=3).map(",".join), vector_text),
-    st.none() | st.just("5,0,0,pi/6") | vector_text,
-    st.none() | st.sampled_from(["x3, theta + x1", "q[100]", "x9", "", "theta +", "2, 3 +", "phi"]),
-    st.sampled_from(["2", "2", "1", "-1", "101", "two"]),
+    st.lists(angles, min_size=5, max_size=5)
+    .map(",".join)
+    .flatmap(
+        lambda q: one_option_changed(
+            {"--q": q, "--kind": "kinematic", "--eta": None},
+            {
+                "--q": vector_text,
+                "--kind": st.sampled_from(["dynamic", "", "Kinematic", "ellipse"]),
+                "--eta": vector_text,
+            },
+        )
+    )
 )
-def test_plan_options(target, start, extension, harmonics):
+def test_ellipsoid_options(options):
+    """bayle-planar has no dynamic model: ``--kind dynamic`` and ``--eta`` are errors (exit 2) too."""
+    assert_contract(["ellipsoid", "bayle-planar", *options, "--json"])
+
+
+@settings(FUZZ, max_examples=10)
+@given(
+    st.lists(st.floats(-3.0, 3.0).map(repr), min_size=3, max_size=3)
+    .map(",".join)
+    .flatmap(
+        lambda target: one_option_changed(
+            {"--target": target, "--start": "5,0,0,pi/6", "--harmonics": "2", "--extension": None},
+            {
+                "--extension": st.sampled_from(["x3, theta + x1", "q[100]", "x9", "", "theta +", "2, 3 +"]),
+                "--target": vector_text,
+                "--start": vector_text,
+                "--harmonics": st.sampled_from(["1", "-1", "101", "two"]),
+            },
+        )
+    )
+)
+@example(["--target", "0,0,1", "--start", "5,0,0,pi/6", "--extension", "x3, theta + x1"])
+@example(["--target", "0,0,1", "--extension", "q[100]"])
+@example(["--target", "0.5,-1,2", "--harmonics", "1", "--extension", "theta +"])
+def test_plan_options(options):
     """Exit 3 (not converged within the 8 iterations) is the documented status of a plan that ends short."""
-    args = ["plan", "tchon-car-rtr", "--target", target, "--harmonics", harmonics, "--max-iterations", "8"]
-    args += [] if start is None else ["--start", start]
-    args += [] if extension is None else ["--algorithm", "extended", "--extension", extension]
-    assert_contract([*args, "--json"], not_reached=True)
+    args = ["plan", "tchon-car-rtr", *options, "--max-iterations", "8", "--json"]
+    if "--extension" in options:
+        args += ["--algorithm", "extended"]
+    assert_contract(args, not_reached=True)
 
 
 @settings(FUZZ, max_examples=40)
