@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -189,6 +190,13 @@ def test_the_memory_check_counts_one_piece_of_a_long_run(tmp_path, capsys, monke
     with pytest.raises(SystemExit) as exc:  # the step limit still counts every step
         main(["simulate", str(path), "--json", "--max-steps", "20"])
     assert exc.value.code == 2 and "--max-steps" in capsys.readouterr().err
+    monkeypatch.setattr(
+        common.shutil, "disk_usage", lambda _: SimpleNamespace(total=10**9, used=10**9, free=1000)
+    )
+    with pytest.raises(SystemExit) as exc:  # the files of a run in pieces must fit on the disk
+        main(["simulate", str(path), "--json", "--out", str(tmp_path / "run")])
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert exc.value.code == 2 and "free there" in line and not (tmp_path / "run").exists()
 
 
 def test_an_interrupted_long_run_leaves_the_old_results(tmp_path, capsys, monkeypatch):

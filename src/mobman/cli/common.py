@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import os
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -69,6 +70,23 @@ def check_steps(
         raise InputError(
             f"{field}: {estimate}: more than the {_size(available)} available; use a larger dt or a shorter "
             "duration"
+        )
+
+
+def check_disk(out: Path, need: int, field: str = "--out") -> None:
+    """Refuse, before any work, results of about ``need`` bytes that the file system of ``out`` has no room
+    for (InputError naming ``field``)."""
+    parent = Path(os.path.abspath(out))
+    while not parent.exists():
+        parent = parent.parent
+    try:
+        free = shutil.disk_usage(parent).free
+    except OSError:
+        return
+    if need > free:
+        raise InputError(
+            f"{field} {out}: the results take about {_size(need)}, more than the {_size(free)} free there; "
+            "use a larger dt, a shorter duration or another folder"
         )
 
 

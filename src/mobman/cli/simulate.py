@@ -24,7 +24,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import MAX_STEPS, check_steps, not_reached
+from mobman.cli.common import MAX_STEPS, check_disk, check_steps, not_reached
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.io import dump_json, trajectories
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
@@ -219,6 +219,8 @@ def simulate_command(
     outside = outside_limits(parsed.robot, parsed.q0[None], "q0", strict_limits)[0]
     if out is not None:
         check_folder(out, "simulate")
+        if streamed:  # the time series go to files: 8 bytes a value
+            check_disk(out, steps * _values_per_step(parsed) * 8)
     if streamed:
         folder = results_folder(out, "simulate") if out is not None else contextlib.nullcontext(None)
         with folder as staging:
