@@ -11,7 +11,7 @@ import tempfile
 import tomllib
 from pathlib import Path
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from mobman.cli import main
@@ -143,7 +143,9 @@ def _finite(value) -> bool:
     return not isinstance(value, float) or math.isfinite(value)
 
 
-def assert_contract(args: list[str]) -> None:
+def assert_contract(args: list[str], not_reached: bool = False) -> None:
+    """Exit 0 with finite JSON, or exit 2 with one ``error:`` line; with ``not_reached`` also exit 3 with the
+    report (saying it did not converge) and a last ``warning:`` line."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
@@ -153,6 +155,9 @@ def assert_contract(args: list[str]) -> None:
             code = exc.code
     if code == 0:
         assert _finite(json.loads(out.getvalue())), args
+    elif code == 3 and not_reached:
+        assert json.loads(out.getvalue())["converged"] is False, args
+        assert err.getvalue().strip().splitlines()[-1].startswith("warning: mobman "), (args, err.getvalue())
     else:
         lines = err.getvalue().strip().splitlines()
         assert code == 2 and len(lines) == 1 and lines[0].startswith("error: "), (args, code, err.getvalue())
@@ -178,6 +183,72 @@ number_text = st.one_of(
 )
 def test_configuration_values(text):
     assert_contract(["analyze", "bayle-planar", "--q", text, "--json"])
+
+
+vector_text = st.one_of(
+    st.lists(st.floats(-4.0, 4.0).map(repr), min_size=1, max_size=4).map(",".join),
+    st.lists(number_text, min_size=0, max_size=5).map(",".join),
+)
+
+
+@st.composite
+def one_option_changed(draw, valid: dict, changes: dict) -> list[str]:
+    """Valid options ``valid`` with none or one of them changed (drawn from ``changes``), as arguments."""
+    options = dict(valid)
+    name = draw(st.sampled_from([None, *changes]))
+    if name is not None:
+        options[name] = draw(changes[name])
+    return [word for key, value in options.items() if value is not None for word in (key, value)]
+
+
+angles = st.floats(-4.0, 4.0).map(repr) | st.sampled_from(["pi", "-pi/2", "pi/2"])
+
+
+@settings(FUZZ, max_examples=12)
+@given(
+    st.lists(angles, min_size=5, max_size=5)
+    .map(",".join)
+    .flatmap(
+        lambda q: one_option_changed(
+            {"--q": q, "--kind": "kinematic", "--eta": None},
+            {
+                "--q": vector_text,
+                "--kind": st.sampled_from(["dynamic", "", "Kinematic", "ellipse"]),
+                "--eta": vector_text,
+            },
+        )
+    )
+)
+def test_ellipsoid_options(options):
+    """bayle-planar has no dynamic model: ``--kind dynamic`` and ``--eta`` are errors (exit 2) too."""
+    assert_contract(["ellipsoid", "bayle-planar", *options, "--json"])
+
+
+@settings(FUZZ, max_examples=10)
+@given(
+    st.lists(st.floats(-3.0, 3.0).map(repr), min_size=3, max_size=3)
+    .map(",".join)
+    .flatmap(
+        lambda target: one_option_changed(
+            {"--target": target, "--start": "5,0,0,pi/6", "--harmonics": "2", "--extension": None},
+            {
+                "--extension": st.sampled_from(["x3, theta + x1", "q[100]", "x9", "", "theta +", "2, 3 +"]),
+                "--target": vector_text,
+                "--start": vector_text,
+                "--harmonics": st.sampled_from(["1", "-1", "101", "two"]),
+            },
+        )
+    )
+)
+@example(["--target", "0,0,1", "--start", "5,0,0,pi/6", "--extension", "x3, theta + x1"])
+@example(["--target", "0,0,1", "--extension", "q[100]"])
+@example(["--target", "0.5,-1,2", "--harmonics", "1", "--extension", "theta +"])
+def test_plan_options(options):
+    """Exit 3 (not converged within the 8 iterations) is the documented status of a plan that ends short."""
+    args = ["plan", "tchon-car-rtr", *options, "--max-iterations", "8", "--json"]
+    if "--extension" in options:
+        args += ["--algorithm", "extended"]
+    assert_contract(args, not_reached=True)
 
 
 @settings(FUZZ, max_examples=40)

@@ -9,6 +9,8 @@ import pytest
 
 from mobman.cli import main
 from mobman.io import trajectories
+from mobman.kinematics import forward
+from mobman.model import robots
 
 
 def _run(args, capsys):
@@ -97,3 +99,29 @@ def test_bad_extension_is_one_line_and_exit_2(extension, needle, capsys):
     assert code == 2
     lines = captured.err.strip().splitlines()
     assert len(lines) == 1 and "--extension" in lines[0] and needle in lines[0]
+
+
+def test_joint_limits_of_the_start_and_of_the_planned_arm_joints(capsys):
+    """bayle-rrp's prismatic q6 ≥ 0: a target reached with q6 = −0.4 (from a start inside the limits) ends
+    outside them; a start outside them is reported before planning."""
+    robot = robots.build("bayle-rrp")
+    target = ",".join(
+        repr(float(v)) for v in np.asarray(forward(robot, [0, 0, 0, 0.2, 0.5, -0.4], robot.task))
+    )
+    args = ["plan", "bayle-rrp", "--target", target, "--x", "0.2,0.5,0.1", "--harmonics", "1", "--json"]
+    main(args)
+    captured = capsys.readouterr()
+    report = json.loads(captured.out)
+    assert report["converged"] and report["x"][2] < 0.0
+    assert report["outside_limits"] == {"start": [], "end": ["q6"]}
+    (line,) = captured.err.strip().splitlines()
+    assert line.startswith("warning: planned x: q6 = ") and "outside [0, inf]" in line
+    code, captured = _run([*args, "--strict-limits"], capsys)
+    (line,) = captured.err.strip().splitlines()
+    assert code == 2 and line.startswith("error: planned x: q6 = ")
+    code, captured = _run([*args[:5], "0.2,0.5,-0.5", "--strict-limits"], capsys)
+    (line,) = captured.err.strip().splitlines()
+    assert (
+        code == 2
+        and line == "error: start (--start, --x): q6 = -0.5 outside [0, inf] (the robot's joint limits)"
+    )

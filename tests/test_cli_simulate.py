@@ -4,11 +4,15 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from mobman.cli import main
+from mobman.cli import common, main
+from mobman.cli import simulate as simulate_cli
+from mobman.control import spec
+from mobman.control.metrics import RunningSummary
 from mobman.io import trajectories
 from mobman.model import robots
 
@@ -105,3 +109,114 @@ def test_unreadable_spec(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main(["simulate", str(bad)])
     assert "invalid TOML" in capsys.readouterr().err
+
+
+def _limited_robot(tmp_path: Path) -> str:
+    """SHORT with the example robot file given joint limits that its q5 = 1.57 exceeds."""
+    robot = (EXAMPLE.parent / "planar_robot.toml").read_text()
+    (tmp_path / "robot.toml").write_text(robot + "limits = [[-3.1, 3.1], [-1.5, 1.5]]\n")
+    return SHORT.replace('name = "bayle-planar"', 'file = "robot.toml"')
+
+
+def test_q0_outside_the_joint_limits_warns_or_fails_with_strict_limits(tmp_path, capsys):
+    path = _spec(tmp_path, _limited_robot(tmp_path))
+    main(["simulate", str(path), "--json"])
+    captured = capsys.readouterr()
+    metrics = json.loads(captured.out)
+    assert len(metrics["outside_limits"]) == 1 and metrics["duration"] == pytest.approx(0.4)
+    (line,) = captured.err.strip().splitlines()
+    assert line.startswith("warning: q0: ") and "= 1.57 outside [-1.5, 1.5]" in line
+    with pytest.raises(SystemExit) as exc:
+        main(["simulate", str(path), "--json", "--strict-limits", "--out", str(tmp_path / "run")])
+    assert exc.value.code == 2 and not (tmp_path / "run").exists()
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith("error: ") and "q0: " in line and "= 1.57 outside [-1.5, 1.5]" in line
+
+
+def test_q0_inside_the_joint_limits_is_reported_as_such(tmp_path, capsys):
+    main(["simulate", str(_spec(tmp_path, SHORT)), "--json", "--strict-limits"])
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["outside_limits"] == [] and captured.err == ""
+
+
+def test_a_long_run_is_computed_and_written_in_pieces(tmp_path, capsys, monkeypatch):
+    """With pieces of 8 samples (21 in all: two whole pieces and a cut one), the files and metrics are those
+    of the run held in memory."""
+    path = _spec(tmp_path, SHORT)
+    whole = tmp_path / "whole"
+    main(["simulate", str(path), "--out", str(whole), "--json"])
+    expected = json.loads(capsys.readouterr().out)
+    series = json.loads((whole / "results.json").read_text())["series"]
+    monkeypatch.setattr(simulate_cli, "STREAM_STEPS", 8)
+    monkeypatch.setattr(simulate_cli, "PLOT_SAMPLES", 5)
+    pieces = tmp_path / "pieces"
+    main(["simulate", str(path), "--out", str(pieces), "--json"])
+    metrics = json.loads(capsys.readouterr().out)
+    assert metrics.keys() == expected.keys()
+    for key, value in expected.items():
+        assert metrics[key] == (
+            pytest.approx(value, rel=1e-12, abs=1e-15) if isinstance(value, float) else value
+        )
+    document = json.loads((pieces / "results.json").read_text())
+    assert document["samples"] == 21 and document["figure_stride"] == 5
+    files = dict(document["series"])
+    files.update({f"measures.{k}": v for k, v in files.pop("measures").items()})
+    assert len(files) == len(series) - 1 + len(series["measures"])
+    for name, file in files.items():
+        saved = series["measures"][name[9:]] if name.startswith("measures.") else series[name]
+        array = np.load(pieces / file)  # a complete file: np.load checks the data against the header's shape
+        assert array.shape == np.shape(saved)
+        np.testing.assert_allclose(array.astype(float), np.asarray(saved, dtype=float), rtol=0, atol=1e-12)
+    (motion,) = trajectories.read(pieces)  # every 5th sample, and the last
+    rows = [0, 5, 10, 15, 20]
+    np.testing.assert_array_equal(motion.q, np.load(pieces / "q.npy")[rows])
+    np.testing.assert_array_equal(motion.t, np.load(pieces / "t.npy")[rows])
+    assert (pieces / "paths.png").stat().st_size > 0 and (pieces / "timeseries.png").stat().st_size > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pieces", "spec.toml", "whole"]
+
+
+def test_the_memory_check_counts_one_piece_of_a_long_run(tmp_path, capsys, monkeypatch):
+    path = _spec(tmp_path, SHORT)
+    per_sample = simulate_cli._values_per_step(spec.load(path)) * common.BYTES_PER_VALUE
+    monkeypatch.setattr(common, "available_memory", lambda: 12 * per_sample)  # 21 samples do not fit
+    with pytest.raises(SystemExit) as exc:
+        main(["simulate", str(path), "--json"])
+    assert exc.value.code == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith("error: duration / dt: 21 steps") and "available" in line
+    monkeypatch.setattr(simulate_cli, "STREAM_STEPS", 8)  # pieces of 8 samples do
+    main(["simulate", str(path), "--json"])
+    assert json.loads(capsys.readouterr().out)["duration"] == pytest.approx(0.4)
+    with pytest.raises(SystemExit) as exc:  # the step limit still counts every step
+        main(["simulate", str(path), "--json", "--max-steps", "20"])
+    assert exc.value.code == 2 and "--max-steps" in capsys.readouterr().err
+    monkeypatch.setattr(
+        common.shutil, "disk_usage", lambda _: SimpleNamespace(total=10**9, used=10**9, free=1000)
+    )
+    with pytest.raises(SystemExit) as exc:  # the files of a run in pieces must fit on the disk
+        main(["simulate", str(path), "--json", "--out", str(tmp_path / "run")])
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert exc.value.code == 2 and "free there" in line and not (tmp_path / "run").exists()
+
+
+def test_an_interrupted_long_run_leaves_the_old_results(tmp_path, capsys, monkeypatch):
+    path = _spec(tmp_path, SHORT)
+    out = tmp_path / "run"
+    main(["simulate", str(path), "--out", str(out), "--json"])
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    capsys.readouterr()
+    monkeypatch.setattr(simulate_cli, "STREAM_STEPS", 8)
+    add, calls = RunningSummary.add, []
+
+    def interrupted(self, piece):
+        calls.append(piece)
+        if len(calls) == 2:  # the first piece is already written
+            raise KeyboardInterrupt
+        add(self, piece)
+
+    monkeypatch.setattr(RunningSummary, "add", interrupted)
+    with pytest.raises(SystemExit) as exc:
+        main(["simulate", str(path), "--out", str(out), "--json"])
+    assert exc.value.code == 130 and len(calls) == 2
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run", "spec.toml"]

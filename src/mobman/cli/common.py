@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import os
+import shutil
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -56,10 +57,13 @@ def available_memory() -> int | None:
         return None
 
 
-def check_steps(steps: int, values_per_step: int, field: str, max_steps: int = MAX_STEPS) -> None:
+def check_steps(
+    steps: int, values_per_step: int, field: str, max_steps: int = MAX_STEPS, held: int | None = None
+) -> None:
     """Refuse, before any work, a run of ``steps`` time steps storing ``values_per_step`` floats each that
-    exceeds ``max_steps`` (InputError naming ``--max-steps``) or the machine's available memory."""
-    need = steps * values_per_step * BYTES_PER_VALUE
+    exceeds ``max_steps`` (InputError naming ``--max-steps``) or the machine's available memory; ``held``:
+    the steps in memory at once for a run computed in pieces (default all of them)."""
+    need = (steps if held is None else held) * values_per_step * BYTES_PER_VALUE
     estimate = f"{steps:.3g} steps, about {_size(need)} of memory"
     if steps > max_steps:
         raise InputError(
@@ -71,6 +75,23 @@ def check_steps(steps: int, values_per_step: int, field: str, max_steps: int = M
         raise InputError(
             f"{field}: {estimate}: more than the {_size(available)} available; use a larger dt or a shorter "
             "duration"
+        )
+
+
+def check_disk(out: Path, need: int, field: str = "--out") -> None:
+    """Refuse, before any work, results of about ``need`` bytes that the file system of ``out`` has no room
+    for (InputError naming ``field``)."""
+    parent = Path(os.path.abspath(out))
+    while not parent.exists():
+        parent = parent.parent
+    try:
+        free = shutil.disk_usage(parent).free
+    except OSError:
+        return
+    if need > free:
+        raise InputError(
+            f"{field} {out}: the results take about {_size(need)}, more than the {_size(free)} free there; "
+            "use a larger dt, a shorter duration or another folder"
         )
 
 

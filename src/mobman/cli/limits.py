@@ -12,10 +12,19 @@ from mobman.model.robot import MobileManipulator
 STRICT_HELP = "Refuse (exit 2) a configuration outside the robot's joint limits instead of warning."
 
 
-def outside_limits(robot: MobileManipulator, q: np.ndarray, field: str, strict: bool) -> list[list[str]]:
+def outside_limits(
+    robot: MobileManipulator,
+    q: np.ndarray,
+    field: str,
+    strict: bool,
+    coordinates: slice = slice(None),
+    note: str = "analysed as given",
+) -> list[list[str]]:
     """Names of the coordinates of each configuration q (n, n_q) outside the joint limits; warns on standard
-    error for each such configuration, or raises InputError naming ``field`` when ``strict``."""
-    violations = robot.limit_violations(q)
+    error for each such configuration (ending with ``note``), or raises InputError naming ``field`` when
+    ``strict``. ``coordinates``: the coordinates checked (default all, e.g. ``slice(3, None)`` for the arm's)."""
+    violations = np.zeros(np.shape(q), dtype=bool)
+    violations[:, coordinates] = robot.limit_violations(q)[:, coordinates]
     limits = robot.position_limits
     names = robot.coordinate_names
     out = []
@@ -30,5 +39,5 @@ def outside_limits(robot: MobileManipulator, q: np.ndarray, field: str, strict: 
         )
         if strict:
             raise InputError(f"{label}: {detail} (the robot's joint limits)")
-        typer.echo(f"warning: {label}: {detail} (the robot's joint limits); analysed as given", err=True)
+        typer.echo(f"warning: {label}: {detail} (the robot's joint limits); {note}", err=True)
     return out

@@ -4,7 +4,9 @@ The unknowns are the platform controls over [0, T] (a truncated Fourier series w
 harmonics per control) and the arm joint positions x; the platform starts at ``--start`` = q_p(0), all its
 coordinates (e.g. ``5,0,0,pi/6`` for the car: x, y, θ, φ), default the origin. Initial guess: the constant
 term of control i is 0.01·(−1)^i (the paper's λ01 = 0.01, λ02 = −0.01), other coefficients 0, x = ``--x``
-(default 0 clipped to the joint limits).
+(default 0 clipped to the joint limits). A start configuration (``--start``, ``--x``) or planned arm joints x
+outside the robot's joint limits give a warning line (``outside_limits`` in ``--json``); ``--strict-limits``
+makes them an error (exit 2, nothing written).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from rich.table import Table
 
 from mobman.cli.app import app
 from mobman.cli.common import load_robot, not_reached
+from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json, trajectories
 from mobman.io.numbers import parse_vector
@@ -134,6 +137,7 @@ def plan_command(
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Path | None = typer.Option(None, "--out", help="Folder for the path and convergence figures."),
+    strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
 ) -> None:
     """Plan platform controls and arm joint positions that bring the task to --target at time T."""
     if algorithm not in ALGORITHMS:
@@ -154,7 +158,15 @@ def plan_command(
         if start is not None
         else np.zeros(robot.platform.n_q)
     )
-    z0 = initial_configuration(setting, _joints(robot, joints))
+    x0 = _joints(robot, joints)
+    z0 = initial_configuration(setting, x0)
+    start_outside = outside_limits(
+        robot,
+        np.concatenate([q0, x0])[None],
+        "start (--start, --x)",
+        strict_limits,
+        note="planned from there",
+    )[0]
     ext = None
     if algorithm == "extended":
         text = extension if extension is not None else DEFAULT_EXTENSIONS.get(robot_name)
@@ -167,6 +179,13 @@ def plan_command(
         algorithm, _step(step), gamma=gamma, tol=tol, max_iterations=max_iterations, extension=ext
     )
     result = plan(setting, z0, q0, y_d, options)
+    end = np.concatenate([q0, result.x])[None]
+    arm = slice(robot.platform.n_q, None)
+    end_outside = (
+        outside_limits(robot, end, "planned x", strict_limits, arm, "the plan ends there")[0]
+        if np.all(np.isfinite(end))
+        else []
+    )
     coarse = setting.jacobian_setting
     d0, d1 = dexterity(coarse, z0, q0), dexterity(coarse, result.z, q0)
     report = {
@@ -185,6 +204,7 @@ def plan_command(
         "dexterity_end": d1,
         "lambda": result.lam,
         "x": result.x,
+        "outside_limits": {"start": start_outside, "end": end_outside},
         "error_history": result.errors,
     }
     if out is not None:

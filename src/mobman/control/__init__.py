@@ -20,6 +20,8 @@ Notes for code written against ``docs/control_api`` (the contract):
 - laws: options ``damping`` (λ_max), ``damping_threshold`` (ε), ``normalized``, ``saturate`` are keyword-only.
 - ``simulate(..., integrator="auto"|"lie"|"rk4", progress=None)``; ``law`` may be a list of laws (batch
   over gains), ``q0`` a (B, n_q) array (batch over initial configurations).
+- ``simulate_pieces(...)``: the same run as consecutive pieces of ``chunk`` samples, one in memory at a time;
+  ``metrics.RunningSummary`` takes them one after the other and gives ``summarize``'s metrics.
 - ``result.info``: ``damping`` (λ²), ``sigma_min``, ``limit_ratio``, ``P`` (with a criterion), ``det``
   (AugmentedJacobian: |det [G; J; J_z]|), ``q_mid`` (lie integrator).
 - ``metrics.summarize`` returns also ``final_error``, ``saturated_steps``, ``damped_steps``, the joint-limit
@@ -28,7 +30,13 @@ Notes for code written against ``docs/control_api`` (the contract):
 """
 
 from mobman.control import criteria, laws, metrics, references
-from mobman.control.simulation import SimulationResult, compute_measures, controlled_task, simulate
+from mobman.control.simulation import (
+    SimulationResult,
+    compute_measures,
+    controlled_task,
+    simulate,
+    simulate_pieces,
+)
 
 __all__ = [
     "SimulationResult",
@@ -39,4 +47,5 @@ __all__ = [
     "metrics",
     "references",
     "simulate",
+    "simulate_pieces",
 ]

@@ -47,12 +47,16 @@ def _path_length(points: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=-1)))
 
 
+def _excess(limits: np.ndarray, q) -> np.ndarray:
+    """How far each coordinate of q (N × n_q) lies outside its [lower, upper] limits (0 inside)."""
+    q = np.asarray(q, dtype=float)
+    return np.maximum(limits[:, 0] - q, 0.0) + np.maximum(q - limits[:, 1], 0.0)
+
+
 def joint_limit_violations(robot, q) -> dict:
     """How a path of configurations q (N × n_q) leaves the robot's joint position limits: the number of
     samples outside, the worst excess (rad or m) and the name of its coordinate (see the module docstring)."""
-    q = np.asarray(q, dtype=float)
-    limits = np.asarray(robot.position_limits, dtype=float)
-    excess = np.maximum(limits[:, 0] - q, 0.0) + np.maximum(q - limits[:, 1], 0.0)
+    excess = _excess(np.asarray(robot.position_limits, dtype=float), q)
     worst = np.max(excess, axis=0)
     joint = int(np.argmax(worst))
     return {
@@ -62,43 +66,128 @@ def joint_limit_violations(robot, q) -> dict:
     }
 
 
+class RunningSummary:
+    """The metrics of one run (see the module docstring) from its samples fed in order, one piece after the
+    other (:meth:`add`), so that a long run need never be held in memory whole: :meth:`metrics` gives the
+    same numbers as :func:`summarize` of the whole run (sums taken piece by piece, so equal to rounding)."""
+
+    def __init__(self, robot, transient: float = 0.0, v_threshold: float = V_THRESHOLD) -> None:
+        if not (np.isfinite(v_threshold) and v_threshold >= 0):
+            raise InputError(f"summarize: v_threshold must be ≥ 0, got {v_threshold!r}")
+        self.robot, self.transient, self.v_threshold = robot, transient, v_threshold
+        self._limits = np.asarray(robot.position_limits, dtype=float)
+        self._first: list[float] = []  # the first two sample times (dt)
+        self._last = 0.0
+        self._after = [0, 0.0, -np.inf]  # samples with t ≥ transient, Σ e², max e
+        self._final_error = 0.0
+        self._sign: float | None = None  # sign of the last significant v
+        self._grains, self._v_initial = 0, None
+        self._tail: dict[
+            str, np.ndarray
+        ] = {}  # the last ee point, platform point and two η of the last piece
+        self._lengths = [0.0, 0.0]
+        self._effort, self._variation = 0.0, 0.0
+        self._saturated, self._damped, self._outside = 0, 0, 0
+        self._worst = np.zeros(len(self._limits))
+        self._measures: dict[str, list[float]] = {}
+
+    def add(self, piece) -> None:
+        """Feed the next samples: a :class:`~mobman.control.simulation.SimulationResult` of one run."""
+        from mobman.kinematics import forward
+        from mobman.model.task import Position
+
+        if piece.q.ndim != 2:
+            raise InputError(f"summarize: one run expected, got q of shape {piece.q.shape} (a batch?)")
+        t = np.asarray(piece.t, dtype=float)
+        self._first = (self._first + [float(x) for x in t[:2]])[:2]
+        self._last = float(t[-1])
+        if len(self._first) < 2:
+            raise InputError(
+                "summarize: the first piece of a run must hold two samples at least (the step dt)"
+            )
+        dt = self._first[1] - self._first[0]
+        err = np.linalg.norm(piece.error, axis=-1)
+        after = err[t >= self.transient]
+        self._after = [
+            self._after[0] + after.size,
+            self._after[1] + float(np.sum(after**2)),
+            max(self._after[2], float(after.max())) if after.size else self._after[2],
+        ]
+        self._final_error = float(err[-1])
+        v = np.asarray(piece.eta[:, 0], dtype=float)
+        signs = np.sign(v[np.abs(v) > self.v_threshold])
+        if signs.size:
+            if self._sign is not None:
+                signs = np.concatenate([[self._sign], signs])
+            self._grains += int(np.count_nonzero(signs[1:] != signs[:-1]))
+            self._sign = float(signs[-1])
+            if self._v_initial is None:
+                self._v_initial = first_significant(v, self.v_threshold)
+        tail = self._tail
+        ee = np.asarray(forward(self.robot, piece.q, Position("xyz")))
+        paths = (ee, np.asarray(piece.q[:, :2]))
+        for i, (name, points) in enumerate(zip(("ee", "platform"), paths)):
+            self._lengths[i] += _path_length(np.concatenate([tail.get(name, points[:0]), points]))
+            tail[name] = points[-1:]
+        eta = np.concatenate([tail.get("eta", piece.eta[:0]), piece.eta])
+        eta_dot = np.diff(eta, axis=0) / dt
+        self._variation += float(np.sum(np.linalg.norm(np.diff(eta_dot, axis=0), axis=-1)))
+        tail["eta"] = eta[-2:]
+        self._effort += float(np.sum(piece.eta**2))
+        self._saturated += int(np.count_nonzero(piece.saturated))
+        self._damped += int(np.count_nonzero(piece.damped))
+        excess = _excess(self._limits, piece.q)
+        self._outside += int(np.count_nonzero(np.any(excess > 0.0, axis=-1)))
+        self._worst = np.maximum(self._worst, np.max(excess, axis=0))
+        for name, values in piece.measures.items():
+            low, high = float(np.min(values)), float(np.max(values))
+            seen = self._measures.get(name, [low, high])
+            self._measures[name] = [min(seen[0], low), max(seen[1], high), float(values[-1])]
+
+    def metrics(self) -> dict:
+        """The metrics of the samples fed so far, as a JSON-friendly dict."""
+        count, squares, largest = self._after
+        if count == 0:
+            raise InputError(f"transient {self.transient} s is longer than the run ({self._last} s)")
+        dt = self._first[1] - self._first[0]
+        joint = int(np.argmax(self._worst))
+        out = {
+            "duration": self._last,
+            "dt": dt,
+            "max_error": largest,
+            "rms_error": float(np.sqrt(squares / count)),
+            "final_error": self._final_error,
+            "graining_points": self._grains,
+            "v_initial": 0.0 if self._v_initial is None else self._v_initial,
+            "ee_path_length": self._lengths[0],
+            "platform_path_length": self._lengths[1],
+            "control_effort": self._effort * dt,
+            "acceleration_variation": self._variation,
+            "saturated_steps": self._saturated,
+            "damped_steps": self._damped,
+            "joint_limit_violations": self._outside,
+            "joint_limit_worst": float(self._worst[joint]),
+            "joint_limit_worst_joint": self.robot.coordinate_names[joint]
+            if self._worst[joint] > 0.0
+            else None,
+        }
+        for name, (low, high, final) in self._measures.items():
+            out[f"{name}_min"], out[f"{name}_max"], out[f"{name}_final"] = low, high, final
+        return out
+
+
 def summarize(result, robot=None, transient: float = 0.0, v_threshold: float = V_THRESHOLD) -> dict:
     """The metrics of one run as a JSON-friendly dict (see the module docstring)."""
-    from mobman.kinematics import forward
-    from mobman.model.task import Position
-
-    robot = result.robot if robot is None else robot
-    if result.q.ndim != 2:
-        raise InputError(f"summarize: one run expected, got q of shape {result.q.shape} (a batch?)")
-    dt = result.dt
-    err = np.linalg.norm(result.error, axis=-1)
-    after = err[result.t >= transient]
-    if after.size == 0:
-        raise InputError(f"transient {transient} s is longer than the run ({result.t[-1]} s)")
-    v = result.eta[:, 0]
-    ee = np.asarray(forward(robot, result.q, Position("xyz")))
-    eta_dot = np.diff(result.eta, axis=0) / dt
-    out = {
-        "duration": float(result.t[-1]),
-        "dt": dt,
-        "max_error": float(after.max()),
-        "rms_error": float(np.sqrt(np.mean(after**2))),
-        "final_error": float(err[-1]),
-        "graining_points": graining_points(v, v_threshold),
-        "v_initial": first_significant(v, v_threshold),
-        "ee_path_length": _path_length(ee),
-        "platform_path_length": _path_length(result.q[:, :2]),
-        "control_effort": float(np.sum(result.eta**2) * dt),
-        "acceleration_variation": float(np.sum(np.linalg.norm(np.diff(eta_dot, axis=0), axis=-1))),
-        "saturated_steps": int(np.count_nonzero(result.saturated)),
-        "damped_steps": int(np.count_nonzero(result.damped)),
-        **joint_limit_violations(robot, result.q),
-    }
-    for name, values in result.measures.items():
-        out[f"{name}_min"] = float(np.min(values))
-        out[f"{name}_max"] = float(np.max(values))
-        out[f"{name}_final"] = float(values[-1])
-    return out
+    summary = RunningSummary(result.robot if robot is None else robot, transient, v_threshold)
+    summary.add(result)
+    return summary.metrics()
 
 
-__all__ = ["V_THRESHOLD", "first_significant", "graining_points", "joint_limit_violations", "summarize"]
+__all__ = [
+    "V_THRESHOLD",
+    "RunningSummary",
+    "first_significant",
+    "graining_points",
+    "joint_limit_violations",
+    "summarize",
+]

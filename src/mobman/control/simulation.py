@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 import jax
 import jax.numpy as jnp
@@ -280,28 +280,30 @@ def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarr
     return out
 
 
-def simulate(
-    robot: MobileManipulator,
-    task: Task | None,
-    law,
-    reference: Reference,
-    q0,
-    duration: float,
-    dt: float,
-    measures: Sequence[str] = (),
-    integrator: str = "auto",
-    progress: Callable[[float], None] | None = None,
-    chunk: int = 2000,
-) -> SimulationResult:
-    """Simulate the closed loop from q0 during ``duration`` with step ``dt`` (one compiled scan).
+@dataclass(frozen=True)
+class _Setup:
+    """A validated request of :func:`simulate`: what every compiled piece of the run takes."""
 
-    Batching: ``q0`` of shape (B, n_q) and/or ``law`` a sequence of B laws differing only in gains run as
-    one vmapped call; every array of the result then has a leading axis B. ``measures``: names such as
-    ``"arm_w5"``, ``"system_w"``, ``"system_normalized_w5"``. ``progress(fraction)``, if given, is called
-    between chunks of ``chunk`` steps (the same compiled chunk is reused). Raises
-    :class:`~mobman.SingularConfigurationError` if the run produced non-finite values (an undamped law
-    at a singular configuration).
-    """
+    robot: MobileManipulator
+    task: Task
+    ctask: Task
+    integrator: str
+    n: int
+    dt: float
+    reference: Reference
+    law: object
+    q0: jnp.ndarray
+    batch_law: bool
+    batch_q: bool
+    measures: tuple[str, ...]
+
+    @property
+    def axis(self) -> int:
+        """The time axis of the recorded arrays (1 after a batch axis)."""
+        return 1 if (self.batch_law or self.batch_q) else 0
+
+
+def _setup(robot, task, law, reference, q0, duration, dt, measures, integrator) -> _Setup:
     task = robot.task if task is None else task
     task.check(robot)
     if integrator not in INTEGRATORS:
@@ -331,39 +333,71 @@ def simulate(
         raise InputError(f"q0 batch ({q0.shape[0]}) and law batch ({len(laws)}) must have the same size")
     law_arg = _stack_laws(laws) if batch_law else law
     parse_measure_names(measures)
+    return _Setup(
+        robot,
+        task,
+        ctask,
+        integrator,
+        n,
+        float(dt),
+        reference,
+        law_arg,
+        jnp.asarray(q0),
+        batch_law,
+        batch_q,
+        tuple(measures),
+    )
 
-    chunk = n if progress is None else max(1, min(chunk, n))
-    run = _run_shared if batch_q and not batch_law else _run
-    pieces, q, k0 = [], jnp.asarray(q0), 0
-    while k0 < n:
+
+def _pieces(setup: _Setup, chunk: int) -> Iterator[tuple[int, dict]]:
+    """The run as consecutive pieces (k0, recorded arrays of samples k0 … k0 + chunk − 1, NumPy): each piece
+    one call of the same compiled scan of ``chunk`` steps, continuing from the state the previous one ended
+    in at step index k0 (the law and the reference are functions of (q, t) only, so a piece is the
+    whole run's samples; the last piece is cut at sample n − 1)."""
+    run = _run_shared if setup.batch_q and not setup.batch_law else _run
+    q, k0 = setup.q0, 0
+    while k0 < setup.n:
         q, out = run(
-            robot, task, integrator, chunk, float(dt), reference, law_arg, q, batch_law, batch_q, float(k0)
+            setup.robot,
+            setup.task,
+            setup.integrator,
+            chunk,
+            setup.dt,
+            setup.reference,
+            setup.law,
+            q,
+            setup.batch_law,
+            setup.batch_q,
+            float(k0),
         )
-        pieces.append(out)
+        cut = (slice(None),) * setup.axis + (slice(0, min(chunk, setup.n - k0)),)
+        yield k0, jax.tree.map(lambda x, cut=cut: np.asarray(x)[cut], out)
         k0 += chunk
-        if progress is not None:
-            progress(min(k0, n) / n)
-    axis = 1 if (batch_law or batch_q) else 0
-    out = jax.tree.map(lambda *xs: np.concatenate([np.asarray(x) for x in xs], axis=axis), *pieces)
-    out = jax.tree.map(lambda x: x[(slice(None),) * axis + (slice(0, n),)], out)  # a view, not a copy
+
+
+def _result(setup: _Setup, k0: int, out: dict) -> SimulationResult:
+    """The samples k0, k0 + 1, … recorded in ``out`` as a result; raises SingularConfigurationError at the
+    first non-finite state or control."""
     q_path = out["q"]
     finite = np.all(np.isfinite(q_path), axis=-1) & np.all(np.isfinite(out["eta"]), axis=-1)
     if not np.all(finite):
         bad = np.argwhere(~finite)[0]
+        bad[-1] += k0
         raise SingularConfigurationError(
-            f"simulation produced non-finite velocities at t = {bad[-1] * dt:g} s (sample {tuple(int(i) for i in bad)}): "
+            f"simulation produced non-finite velocities at t = {bad[-1] * setup.dt:g} s (sample {tuple(int(i) for i in bad)}): "
             "the law met a singular configuration (give it damping > 0) or a non-finite reference or criterion"
         )
     xi_star, xi = out["xi_pair"][..., 0, :], out["xi_pair"][..., 1, :]
-    info = out["info"]
+    info = dict(out["info"])
+    robot, task = setup.robot, setup.task
     return SimulationResult(
-        t=np.arange(n) * dt,
+        t=(k0 + np.arange(q_path.shape[setup.axis])) * setup.dt,
         q=q_path,
         eta=out["eta"],
         xi=xi,
         xi_star=xi_star,
-        error=np.asarray(ctask.error(xi_star, xi)),
-        measures=compute_measures(robot, q_path, task, measures) if measures else {},
+        error=np.asarray(setup.ctask.error(xi_star, xi)),
+        measures=compute_measures(robot, q_path, task, setup.measures) if setup.measures else {},
         saturated=info.pop("saturated"),
         damped=info.pop("damped"),
         info=info,
@@ -372,4 +406,68 @@ def simulate(
     )
 
 
-__all__ = ["INTEGRATORS", "SimulationResult", "compute_measures", "controlled_task", "simulate"]
+def simulate(
+    robot: MobileManipulator,
+    task: Task | None,
+    law,
+    reference: Reference,
+    q0,
+    duration: float,
+    dt: float,
+    measures: Sequence[str] = (),
+    integrator: str = "auto",
+    progress: Callable[[float], None] | None = None,
+    chunk: int = 2000,
+) -> SimulationResult:
+    """Simulate the closed loop from q0 during ``duration`` with step ``dt`` (one compiled scan).
+
+    Batching: ``q0`` of shape (B, n_q) and/or ``law`` a sequence of B laws differing only in gains run as
+    one vmapped call; every array of the result then has a leading axis B. ``measures``: names such as
+    ``"arm_w5"``, ``"system_w"``, ``"system_normalized_w5"``. ``progress(fraction)``, if given, is called
+    between chunks of ``chunk`` steps (the same compiled chunk is reused). Raises
+    :class:`~mobman.SingularConfigurationError` if the run produced non-finite values (an undamped law
+    at a singular configuration).
+    """
+    setup = _setup(robot, task, law, reference, q0, duration, dt, measures, integrator)
+    chunk = setup.n if progress is None else max(1, min(chunk, setup.n))
+    pieces = []
+    for k0, out in _pieces(setup, chunk):
+        pieces.append(out)
+        if progress is not None:
+            progress(min(k0 + chunk, setup.n) / setup.n)
+    if len(pieces) == 1:
+        return _result(setup, 0, pieces[0])
+    return _result(setup, 0, jax.tree.map(lambda *xs: np.concatenate(xs, axis=setup.axis), *pieces))
+
+
+def simulate_pieces(
+    robot: MobileManipulator,
+    task: Task | None,
+    law,
+    reference: Reference,
+    q0,
+    duration: float,
+    dt: float,
+    measures: Sequence[str] = (),
+    integrator: str = "auto",
+    chunk: int = 100_000,
+) -> Iterator[SimulationResult]:
+    """The run of :func:`simulate` (same arguments) as consecutive results of ``chunk`` samples each (the
+    last one shorter), computed one after the other so that only one piece is in memory at a time: for
+    runs too long to hold whole. Concatenated along time they are :func:`simulate`'s result (each piece
+    continues from the state the previous one ended in; its ``t`` holds the absolute times)."""
+    if not (isinstance(chunk, (int, np.integer)) and chunk >= 2):
+        raise InputError(f"chunk must be an integer ≥ 2 samples, got {chunk!r}")
+    setup = _setup(robot, task, law, reference, q0, duration, dt, measures, integrator)
+    for k0, out in _pieces(setup, min(int(chunk), setup.n)):
+        yield _result(setup, k0, out)
+
+
+__all__ = [
+    "INTEGRATORS",
+    "SimulationResult",
+    "compute_measures",
+    "controlled_task",
+    "simulate",
+    "simulate_pieces",
+]

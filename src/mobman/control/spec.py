@@ -15,6 +15,7 @@ params = { l1 = 0.5, l2 = 0.5 }
 [task]                           # optional, default: the robot's own task
 kind = "position"                # position | planar_angle | elevation | mount_position | elbow_angle | pose
 components = "xy"                # | stack: tasks = [{kind = ...}, ...]; pose: arm, link, label
+                                 # planar_angle: sequence = "ZYX" (heading of x) | "ZXY"
 
 [reference]
 kind = "ellipse"                 # line | ellipse | polyline | pose
@@ -61,7 +62,17 @@ from mobman.io import spec as fields
 from mobman.io.numbers import parse_vector
 from mobman.model import robots, spatial
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import Elevation, FunctionTask, MountPosition, PlanarAngle, Pose, Position, Task, stack
+from mobman.model.task import (
+    HEADING_SEQUENCES,
+    Elevation,
+    FunctionTask,
+    MountPosition,
+    PlanarAngle,
+    Pose,
+    Position,
+    Task,
+    stack,
+)
 
 TOP_KEYS = (
     "duration",
@@ -109,12 +120,16 @@ def _task(table: dict, field: str) -> Task:
         fields.keys(t, field, ("kind", "components", "arm"))
         return fields.build(field, MountPosition, components=t.get("components", "xy"), arm=t.get("arm", 0))
 
-    def angle(cls):
-        def make(t):
-            fields.keys(t, field, ("kind", "arm", "link"))
-            return fields.build(field, cls, arm=t.get("arm", 0), link=t.get("link", -1))
+    def planar(t):
+        fields.keys(t, field, ("kind", "arm", "link", "sequence"))
+        sequence = fields.text(t, "sequence", field, "ZYX", allowed=HEADING_SEQUENCES)
+        return fields.build(
+            field, PlanarAngle, arm=t.get("arm", 0), link=t.get("link", -1), sequence=sequence
+        )
 
-        return make
+    def elevation(t):
+        fields.keys(t, field, ("kind", "arm", "link"))
+        return fields.build(field, Elevation, arm=t.get("arm", 0), link=t.get("link", -1))
 
     def pose(t):
         fields.keys(t, field, ("kind", "arm", "link", "label"))
@@ -136,8 +151,8 @@ def _task(table: dict, field: str) -> Task:
     kinds = {
         "position": position,
         "mount_position": mount,
-        "planar_angle": angle(PlanarAngle),
-        "elevation": angle(Elevation),
+        "planar_angle": planar,
+        "elevation": elevation,
         "elbow_angle": elbow,
         "pose": pose,
         "stack": stacked,

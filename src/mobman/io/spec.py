@@ -126,7 +126,11 @@ def text(entries: dict, key: str, field: str, default: Any = None, allowed: tupl
     if not isinstance(value, str) or len(value) > 200:
         raise InputError(f"{name}: must be a string (at most 200 characters), got {_shown(value)}")
     if allowed and value not in allowed:
-        raise InputError(f"{name}: {value!r} not one of {', '.join(allowed)}")
+        close = difflib.get_close_matches(value, allowed, n=1) or [
+            a for a in allowed if a.casefold() == value.casefold()
+        ]
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise InputError(f"{name}: {value!r} not one of {', '.join(allowed)}{hint}")
     return value
 
 

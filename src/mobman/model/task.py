@@ -216,7 +216,8 @@ class _OrientationTask(Task):
         return spatial.matmul_expanded(axial, omega)
 
 
-_HEADINGS = ("ZYX", "ZXY")
+HEADING_SEQUENCES = ("ZYX", "ZXY")
+"""The Euler sets whose yaw :class:`PlanarAngle` gives."""
 
 
 @dataclass(frozen=True)
@@ -234,9 +235,9 @@ class PlanarAngle(_OrientationTask):
     sequence: str = "ZYX"
 
     def __post_init__(self) -> None:
-        if self.sequence not in _HEADINGS:
+        if self.sequence not in HEADING_SEQUENCES:
             raise ModelError(
-                f"PlanarAngle: sequence {self.sequence!r} not supported; allowed: {', '.join(_HEADINGS)}"
+                f"PlanarAngle: sequence {self.sequence!r} not supported; allowed: {', '.join(HEADING_SEQUENCES)}"
             )
 
     @property
