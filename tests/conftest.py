@@ -1,13 +1,28 @@
-"""Fixtures shared by the browser tests: the artifacts folder and the robot-pixel mask of a screenshot."""
+"""Shared by the tests: one persistent XLA compilation cache for the run, and for the browser tests the artifacts
+folder and the robot-pixel mask of a screenshot."""
 
 from __future__ import annotations
 
 import io
 import os
+import tempfile
 from pathlib import Path
 
+import jax
 import numpy as np
 import pytest
+
+# One persistent XLA compilation cache for the whole run, shared by the test workers and the subprocesses they
+# start (examples, command lines): a program compiled once (the same robot's kinematics in many tests) is read
+# back instead of compiled again. It only stores compiled programs; every test still computes its values.
+_CACHE = Path(os.environ.get("MOBMAN_TEST_JAX_CACHE", Path(tempfile.gettempdir()) / "mobman-test-jax-cache"))
+os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", str(_CACHE))
+os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", "0.2")
+jax.config.update("jax_compilation_cache_dir", os.environ["JAX_COMPILATION_CACHE_DIR"])
+jax.config.update(
+    "jax_persistent_cache_min_compile_time_secs",
+    float(os.environ["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"]),
+)
 
 
 @pytest.fixture(scope="session")

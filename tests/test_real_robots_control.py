@@ -48,8 +48,10 @@ def _outside(q, limits):
 
 
 def _rotation_errors(rotvec_star, rotvec):
-    """‖log(R* Rᵀ)‖ per sample, with SciPy's rotations."""
-    return (Rotation.from_rotvec(rotvec_star) * Rotation.from_rotvec(rotvec).inv()).magnitude()
+    """‖log(R* Rᵀ)‖ per sample, with SciPy's rotations (which read writable arrays only: the result's arrays are
+    read-only views)."""
+    star, actual = np.array(rotvec_star), np.array(rotvec)
+    return (Rotation.from_rotvec(star) * Rotation.from_rotvec(actual).inv()).magnitude()
 
 
 def test_the_reference_is_the_spec_s_path(run):
