@@ -342,7 +342,9 @@ def jacobian_and_measures(
     Returns ``(J, {"yoshikawa": w, "inverse_condition": w2, "eccentricity": w5})``, the same values as
     :func:`system_jacobian` (or :func:`arm_jacobian`) followed by :func:`measures`, with ``rank`` as in
     :func:`gradient`. For one configuration this is the fast path: one dispatch instead of two, and no
-    wait for the first call's result before the second starts.
+    wait for the first call's result before the second starts. Where the task's coordinates are singular as a
+    representation (:func:`mobman.kinematics.representation_singular`), J and the measures hold NaN: this
+    fast path does not test its output (:func:`measures` of such a J raises InputError).
     """
     task, r = _prepare(robot, which, task, rank)
     return _jacobian_and_measures(robot, K.validated_q(robot, q), task, which, r)
@@ -366,8 +368,9 @@ def gradient(
     rank: Rank = None,
 ) -> jnp.ndarray:
     """∂P/∂q (..., n_q) of a measure P ∈ {yoshikawa, inverse_condition, eccentricity} of the arm, system
-    or normalised-system Jacobian, by autodiff (batched, compiled). Finite everywhere; see the module notes
-    on repeated singular values. The criterion gradients of Nait-Chabane §4.3 / Bayle §7 are this function.
+    or normalised-system Jacobian, by autodiff (batched, compiled). Finite wherever J is (see the module notes
+    on repeated singular values); NaN where the task's coordinates are singular as a representation
+    (:func:`mobman.kinematics.representation_singular`). The criterion gradients of Nait-Chabane §4.3 / Bayle §7 are this function.
     """
     if measure not in MEASURES:
         raise InputError(f"measure must be one of {', '.join(MEASURES)}, got {measure!r}")
