@@ -30,7 +30,7 @@ import mobman  # noqa: F401  (float64)
 from mobman import linalg
 from mobman.control import criteria, laws, references, simulate
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_flops
 

@@ -15,7 +15,7 @@ from mobman import InputError, ModelError, SingularConfigurationError, batching,
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.control.simulation import _step
 from mobman.model import robots
-from mobman.model.task import FunctionTask, MountPosition, PlanarAngle, Position, stack
+from mobman.model.tasks import FunctionTask, MountPosition, PlanarAngle, Position, elbow_angle, stack
 
 ROBOT = robots.bayle_planar()
 TASK = Position("xy")
@@ -425,7 +425,7 @@ def test_augmented_jacobian_hits_end_points():
     robot = robots.korayem_planar()
     q0 = np.array([0.0, 0.0, 0.0, np.pi / 3, np.pi / 2])
     task = Position("xy")
-    extra = stack(PlanarAngle(), FunctionTask(robots.elbow_angle, ("beta",)))
+    extra = stack(PlanarAngle(), FunctionTask(elbow_angle, ("beta",)))
     start = np.asarray(kinematics.forward(robot, q0, stack(task, extra)))
     end = start + np.array([0.8, 0.5, 0.3, -0.4])
     law = laws.AugmentedJacobian(extra=extra, feedback=5.0)

@@ -19,7 +19,7 @@ from mobman.control import criteria, laws, metrics, references, simulate, spec
 from mobman.errors import InputError, ModelError
 from mobman.kinematics import reduced_jacobian
 from mobman.model import robots, so3
-from mobman.model.task import EulerAngles, FunctionTask, Pose, Position, stack
+from mobman.model.tasks import EulerAngles, FunctionTask, Pose, Position, stack
 
 ROBOT = robots.panda_differential()
 LOWER = np.array([lo for lo, _ in ROBOT.position_limits[3:]])

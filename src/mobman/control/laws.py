@@ -26,7 +26,7 @@ The operational error
 ---------------------
 Every law takes e from the task, ``task.error(ξ*, ξ)``: the difference ξ* − ξ for the tasks whose value is
 a point of Rᵐ (the papers' tasks: the same numbers as a plain subtraction), and for a
-:class:`~mobman.model.task.Pose` the position difference and the rotation vector log(R* Rᵀ), with ξ̇* and
+:class:`~mobman.model.tasks.Pose` the position difference and the rotation vector log(R* Rᵀ), with ξ̇* and
 the Jacobian rows in the same coordinates (linear and angular velocity).
 
 Options shared by all laws
@@ -57,7 +57,7 @@ from mobman.control.criteria import Criterion
 from mobman.errors import ModelError
 from mobman.linalg import eigvalsh
 from mobman.model.spatial import matmul, matvec
-from mobman.model.task import Task, stack
+from mobman.model.tasks import Task, stack
 
 
 def _gain(value, name: str, owner: str, allow_zero: bool = False) -> np.ndarray:
@@ -243,8 +243,8 @@ def _resolve(law, robot, task: Task, q, xi_star, xi_star_dot):
 class AugmentedJacobian(_Law):
     """Korayem eq. (30): the square system [J̄; J̄_z] η = ξ̇* + K e over the stacked task (task, extra).
 
-    ``extra``: a model :class:`~mobman.model.task.Task` with n_eta − task.dim rows (Korayem's choices:
-    ``stack(PlanarAngle(), FunctionTask(robots.elbow_angle, ("beta",)))`` or ``MountPosition()``); the
+    ``extra``: a model :class:`~mobman.model.tasks.Task` with n_eta − task.dim rows (Korayem's choices:
+    ``stack(PlanarAngle(), ElbowAngle())`` or ``MountPosition()``); the
     reference then has task.dim + extra.dim components. ``feedback`` K on the whole stacked error (None: 0).
     """
 

@@ -43,7 +43,7 @@ from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.spatial import matvec
-from mobman.model.task import Task, stack
+from mobman.model.tasks import Task, stack
 
 INTEGRATORS = ("auto", "lie", "rk4", "hold")
 _MEASURE_SUFFIX = {"w": "yoshikawa", "w2": "inverse_condition", "w5": "eccentricity"}
@@ -55,7 +55,7 @@ class SimulationResult:
     """Samples at t_k = k dt, k = 0 … N − 1 (a leading batch axis first when batched).
 
     ``error`` = the controlled task's error e(ξ*, ξ) (ξ* − ξ for vector tasks, position difference and
-    rotation vector log(R* Rᵀ) for a :class:`~mobman.model.task.Pose`) over the controlled task (the task
+    rotation vector log(R* Rᵀ) for a :class:`~mobman.model.tasks.Pose`) over the controlled task (the task
     stacked with the extra rows for :class:`~mobman.control.laws.AugmentedJacobian`); ``measures`` name → values; ``info`` the law's
     per-step entries (``damping`` λ², ``sigma_min``, ``limit_ratio``, ``P``, ``det``, …).
     """

@@ -60,12 +60,12 @@ from mobman.errors import InputError, MobmanError
 from mobman.io import robot_file
 from mobman.io import spec as fields
 from mobman.io.numbers import parse_vector
-from mobman.model import robots, spatial
+from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import (
+from mobman.model.tasks import (
     HEADING_SEQUENCES,
+    ElbowAngle,
     Elevation,
-    FunctionTask,
     MountPosition,
     PlanarAngle,
     Pose,
@@ -139,7 +139,7 @@ def _task(table: dict, field: str) -> Task:
 
     def elbow(t):
         fields.keys(t, field, ("kind",))
-        return FunctionTask(robots.elbow_angle, ("beta",))
+        return ElbowAngle()
 
     def stacked(t):
         fields.keys(t, field, ("kind", "tasks"))
