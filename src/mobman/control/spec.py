@@ -13,9 +13,11 @@ name = "bayle-planar"
 params = { l1 = 0.5, l2 = 0.5 }
 
 [task]                           # optional, default: the robot's own task
-kind = "position"                # position | planar_angle | elevation | mount_position | elbow_angle | pose
-components = "xy"                # | stack: tasks = [{kind = ...}, ...]; pose: arm, link, label
-                                 # planar_angle: sequence = "ZYX" (heading of x) | "ZXY"
+kind = "position"                # a task kind (mobman.model.tasks.task_kinds()): position | planar_angle |
+components = "xy"                # elevation | euler_angles | mount_position | elbow_angle | pose | stack;
+                                 # the other keys are the task's fields (mobman.io.tasks): position:
+                                 # components, arm, link, point, label; planar_angle: sequence = "ZYX"
+                                 # (heading of x) | "ZXY"; stack: tasks = [{kind = ...}, ...]
 
 [reference]
 kind = "ellipse"                 # line | ellipse | polyline | pose
@@ -57,22 +59,12 @@ import numpy as np
 from mobman.control import criteria, laws, references
 from mobman.control.simulation import INTEGRATORS, parse_measure_names
 from mobman.errors import InputError, MobmanError
-from mobman.io import robot_file
+from mobman.io import robot_file, tasks
 from mobman.io import spec as fields
 from mobman.io.numbers import parse_vector
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
-from mobman.model.tasks import (
-    HEADING_SEQUENCES,
-    ElbowAngle,
-    Elevation,
-    MountPosition,
-    PlanarAngle,
-    Pose,
-    Position,
-    Task,
-    stack,
-)
+from mobman.model.tasks import Task
 
 TOP_KEYS = (
     "duration",
@@ -102,62 +94,6 @@ class Spec:
     dt: float
     measures: tuple[str, ...]
     integrator: str
-
-
-def _task(table: dict, field: str) -> Task:
-    def position(t):
-        fields.keys(t, field, ("kind", "components", "arm", "link", "label"))
-        return fields.build(
-            field,
-            Position,
-            components=t.get("components", "xyz"),
-            arm=t.get("arm", 0),
-            link=t.get("link", -1),
-            label=t.get("label", "ee"),
-        )
-
-    def mount(t):
-        fields.keys(t, field, ("kind", "components", "arm"))
-        return fields.build(field, MountPosition, components=t.get("components", "xy"), arm=t.get("arm", 0))
-
-    def planar(t):
-        fields.keys(t, field, ("kind", "arm", "link", "sequence"))
-        sequence = fields.text(t, "sequence", field, "ZYX", allowed=HEADING_SEQUENCES)
-        return fields.build(
-            field, PlanarAngle, arm=t.get("arm", 0), link=t.get("link", -1), sequence=sequence
-        )
-
-    def elevation(t):
-        fields.keys(t, field, ("kind", "arm", "link"))
-        return fields.build(field, Elevation, arm=t.get("arm", 0), link=t.get("link", -1))
-
-    def pose(t):
-        fields.keys(t, field, ("kind", "arm", "link", "label"))
-        return fields.build(
-            field, Pose, arm=t.get("arm", 0), link=t.get("link", -1), label=t.get("label", "ee")
-        )
-
-    def elbow(t):
-        fields.keys(t, field, ("kind",))
-        return ElbowAngle()
-
-    def stacked(t):
-        fields.keys(t, field, ("kind", "tasks"))
-        parts = t.get("tasks")
-        if not isinstance(parts, list) or not parts or not all(isinstance(p, dict) for p in parts):
-            raise InputError(f"{field}.tasks: a list of task tables")
-        return stack(*(_task(p, f"{field}.tasks[{i}]") for i, p in enumerate(parts)))
-
-    kinds = {
-        "position": position,
-        "mount_position": mount,
-        "planar_angle": planar,
-        "elevation": elevation,
-        "elbow_angle": elbow,
-        "pose": pose,
-        "stack": stacked,
-    }
-    return fields.kind(table, field, kinds)(table)
 
 
 def _reference(data: dict) -> references.Reference:
@@ -304,7 +240,7 @@ def _law(data: dict):
         fields.keys(gains, "gains", ("feedback",))
         if criterion is not None:
             raise InputError("criterion: the augmented-Jacobian law has no self-motion, remove [criterion]")
-        extra = _task(fields.table(t, "extra", "law.extra"), "law.extra")
+        extra = tasks.task(fields.table(t, "extra", "law.extra"), "law.extra")
         return fields.build(
             "gains", laws.AugmentedJacobian, extra=extra, feedback=gain("feedback"), **options
         )
@@ -319,7 +255,7 @@ def parse(data: dict, base: Path | None = None) -> Spec:
     fields.keys(data, "spec", TOP_KEYS)
     robot = robot_file.robot_table(data, base)
     task_table = fields.table(data, "task", "task", required=False)
-    task = robot.task if task_table is None else _task(task_table, "task")
+    task = robot.task if task_table is None else tasks.task(task_table, "task")
     try:
         task.check(robot)
     except MobmanError as exc:

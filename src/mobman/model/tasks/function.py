@@ -61,9 +61,10 @@ def elbow_angle(q: jnp.ndarray) -> jnp.ndarray:
 @dataclass(frozen=True)
 class ElbowAngle(FunctionTask):
     """Korayem's elbow angle β = π − θ2 (eq. 35) of ``korayem_planar``, the function task of :func:`elbow_angle`
-    with the output name ``beta``: the same task as ``FunctionTask(elbow_angle, ("beta",))``."""
+    with the output name ``beta``: the values and Jacobian of ``FunctionTask(elbow_angle, ("beta",))``."""
 
     kind = "elbow_angle"
 
-    fn: Callable[[jnp.ndarray], jnp.ndarray] = field(default=elbow_angle, init=False)
-    labels: tuple[str, ...] = field(default=("beta",), init=False)
+    # factories: a plain default of a field that is not an argument would be read as a class attribute (a method)
+    fn: Callable[[jnp.ndarray], jnp.ndarray] = field(default_factory=lambda: elbow_angle, init=False)
+    labels: tuple[str, ...] = field(default_factory=lambda: ("beta",), init=False)
