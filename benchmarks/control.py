@@ -124,7 +124,7 @@ def compiler_report(robot, task, law, ref, q0s: np.ndarray, seconds_per_step: fl
 
     def evaluate(q):
         xs, xsd = ref(0.0)
-        return law(robot, task, q, 0.0, xs, xsd)[0]
+        return law(robot, task, q, 0.0, xs, xsd).eta
 
     block = jnp.asarray(q0s[:128])
     flops = 4 * xla_flops(jax.vmap(evaluate), block) / block.shape[0]  # RK4: four law evaluations a step

@@ -246,7 +246,7 @@ def test_laws_regulate_the_rotation_error():
         ),
     ]
     for law, gain, reference, velocity in cases:
-        eta, _ = jax.jit(lambda qq, law=law, r=reference, v=velocity: law(ROBOT, Pose(), qq, 0.0, r, v))(q)
+        eta = jax.jit(lambda qq, law=law, r=reference, v=velocity: law(ROBOT, Pose(), qq, 0.0, r, v).eta)(q)
         np.testing.assert_allclose(jbar @ np.asarray(eta), xi_star_dot + gain * e, rtol=0, atol=1e-10)
     np.testing.assert_allclose(np.asarray(eta)[2:5], 1.5 * 0.01 * np.ones(3), rtol=0, atol=1e-10)
 

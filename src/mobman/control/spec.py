@@ -50,9 +50,9 @@ what is allowed; the command line turns it into one line and exit status 2.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -87,7 +87,7 @@ class Spec:
 
     robot: MobileManipulator
     task: Task
-    law: Any
+    law: laws.Law
     reference: references.Reference
     q0: np.ndarray
     duration: float
@@ -196,58 +196,26 @@ def _criterion(table: dict | None, field: str) -> criteria.Criterion | None:
     return fields.kind(table, field, kinds)(table)
 
 
-def _law(data: dict):
+def _law(data: dict) -> laws.Law:
+    """The law of ``[law]`` by its kind (:func:`mobman.control.laws.law_kinds`): its gains from ``[gains]``,
+    its other fields from ``[law]``, its criterion from ``[criterion]``."""
     table = fields.table(data, "law", "law")
+    cls = fields.kind(table, "law", {kind: laws.law_class(kind) for kind in laws.law_kinds()})
     gains = fields.table(data, "gains", "gains", required=False) or {}
-    criterion = _criterion(fields.table(data, "criterion", "criterion", required=False), "criterion")
-    options = {k: table[k] for k in ("damping", "damping_threshold", "normalized", "saturate") if k in table}
-    for key in ("damping", "damping_threshold"):
-        if key in options:
-            options[key] = fields.number(table, key, "law")
-    for key in ("normalized", "saturate"):
-        if key in options and not isinstance(options[key], bool):
-            raise InputError(f"law.{key}: must be true or false, got {options[key]!r}")
-
-    def gain(key, default=None):
-        return default if gains.get(key) is None else fields.array(gains[key], f"gains.{key}")
-
-    def bayle(t):
-        fields.keys(t, "law", ("kind", "damping", "damping_threshold", "normalized", "saturate"))
-        fields.keys(gains, "gains", ("W", "k"))
-        return fields.build(
-            "gains",
-            laws.BaylePseudoInverse,
-            W=gain("W", 1.0),
-            k=gain("k", 0.0),
-            criterion=criterion,
-            **options,
-        )
-
-    def nait_chabane(t):
-        fields.keys(t, "law", ("kind", "damping", "damping_threshold", "normalized", "saturate"))
-        fields.keys(gains, "gains", ("W", "feedback"))
-        return fields.build(
-            "gains",
-            laws.NaitChabane,
-            W=gain("W", 1.0),
-            criterion=criterion,
-            feedback=gain("feedback"),
-            **options,
-        )
-
-    def augmented(t):
-        fields.keys(t, "law", ("kind", "extra", "damping", "damping_threshold", "normalized", "saturate"))
-        fields.keys(gains, "gains", ("feedback",))
-        if criterion is not None:
-            raise InputError("criterion: the augmented-Jacobian law has no self-motion, remove [criterion]")
-        extra = tasks.task(fields.table(t, "extra", "law.extra"), "law.extra")
-        return fields.build(
-            "gains", laws.AugmentedJacobian, extra=extra, feedback=gain("feedback"), **options
-        )
-
-    return fields.kind(table, "law", {"bayle": bayle, "nait-chabane": nait_chabane, "augmented": augmented})(
-        table
+    values = fields.dataclass_values(cls, gains, "gains", names=cls.gains, other_keys=())
+    values |= fields.dataclass_values(
+        cls,
+        table,
+        "law",
+        names=[f.name for f in dataclasses.fields(cls) if f.name not in cls.gains],
+        convert={Task: tasks.task},
     )
+    criterion_table = fields.table(data, "criterion", "criterion", required=False)
+    if criterion_table is not None:
+        if "criterion" not in {f.name for f in dataclasses.fields(cls)}:
+            raise InputError(f"criterion: the {table['kind']} law has no self-motion, remove [criterion]")
+        values["criterion"] = _criterion(criterion_table, "criterion")
+    return fields.build("gains", cls, **values)
 
 
 def parse(data: dict, base: Path | None = None) -> Spec:
@@ -275,9 +243,7 @@ def parse(data: dict, base: Path | None = None) -> Spec:
         raise InputError(f"integrator: {integrator!r} not one of {', '.join(INTEGRATORS)}")
     law = _law(data)
     reference = _reference(data)
-    from mobman.control.simulation import controlled_task
-
-    ctask = controlled_task(law, task)
+    ctask = law.controlled_task(task)
     if reference.dim != ctask.dim:
         raise InputError(
             f"reference: {reference.dim} components, the controlled task {ctask.names} has {ctask.dim}"

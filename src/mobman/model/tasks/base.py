@@ -25,7 +25,6 @@ more than calling the class.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
@@ -36,6 +35,7 @@ import jax.numpy as jnp
 
 from mobman.errors import ModelError
 from mobman.model import spatial
+from mobman.model.kinds import Kinds
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -47,7 +47,8 @@ REPRESENTATION_TOL = 1e-8
 |cos| of the middle Euler angle) is at most this: its derivative, 1 / margin, then exceeds 1e8 and its value
 is fixed by rounding errors of the rotation to no better than about 1e-8 rad."""
 
-_KINDS: dict[str, type[Task]] = {}
+TASKS: Kinds[type[Task]] = Kinds("task")
+"""The task classes by kind."""
 
 
 class SymbolicFrames(Protocol):
@@ -81,15 +82,7 @@ class Task:
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        kind = cls.__dict__.get("kind", "")
-        if not kind:
-            return
-        known = _KINDS.get(kind)
-        if known is not None and (known.__module__, known.__qualname__) != (cls.__module__, cls.__qualname__):
-            raise ModelError(
-                f"task kind {kind!r} is already {known.__module__}.{known.__qualname__}; choose another kind"
-            )
-        _KINDS[kind] = cls
+        TASKS.add(cls)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -142,17 +135,12 @@ class Task:
 
 def task_kinds() -> tuple[str, ...]:
     """The registered task kinds, sorted."""
-    return tuple(sorted(_KINDS))
+    return TASKS.kinds()
 
 
 def task_class(kind: str) -> type[Task]:
     """The task class registered under ``kind``; an unknown kind raises ModelError naming the closest one."""
-    try:
-        return _KINDS[kind]
-    except (KeyError, TypeError):
-        close = difflib.get_close_matches(kind, list(_KINDS), n=1) if isinstance(kind, str) else []
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        raise ModelError(f"task kind {kind!r} unknown; {hint}known: {', '.join(task_kinds())}") from None
+    return TASKS.get(kind)
 
 
 _AXES = {"x": 0, "y": 1, "z": 2}
@@ -197,6 +185,7 @@ def check_arm(robot: MobileManipulator, arm: int, link: int | None = None) -> No
 __all__ = [
     "REPRESENTATION_TOL",
     "SymbolicFrames",
+    "TASKS",
     "Task",
     "check_arm",
     "component_indices",
