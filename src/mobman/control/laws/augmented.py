@@ -50,7 +50,7 @@ class AugmentedJacobian(Law):
             object.__setattr__(
                 self, "feedback", positive_gain(self.feedback, "feedback", "AugmentedJacobian")
             )
-        self._check_options("AugmentedJacobian")
+        self.check_options("AugmentedJacobian")
 
     def controlled_task(self, task: Task) -> Task:
         """The task stacked with the extra rows."""
@@ -66,13 +66,13 @@ class AugmentedJacobian(Law):
         frames = robot.frames(q)
         xi = jnp.concatenate([task.value(robot, q, frames), self.extra.value(robot, q, frames)])
         jac = jnp.concatenate([task.jacobian(robot, q, frames), self.extra.jacobian(robot, q, frames)])
-        scale = self._scale(robot)
+        scale = self.scale(robot)
         e = self.controlled_task(task).error(xi_star, xi)
         rhs = xi_star_dot if self.feedback is None else xi_star_dot + apply_gain(self.feedback, e, "feedback")
         jt = robot.apply_S(jac, q) * scale
         inverse, lam2, sigma_min = damped_inverse(jt, self.damping, self.damping_threshold)
         det = jnp.abs(jnp.linalg.det(jnp.concatenate([robot.constraints(q), jac])))
-        eta, ratio, saturated = self._saturation(robot, matvec(inverse, rhs) * scale)
+        eta, ratio, saturated = self.saturation(robot, matvec(inverse, rhs) * scale)
         return AugmentedStep(eta, lam2, sigma_min, ratio, saturated, lam2 > 0, det=det)
 
 

@@ -169,7 +169,8 @@ class Law:
         """The task whose error the law regulates and whose reference it takes: ``task`` itself here."""
         return task
 
-    def _check_options(self, owner: str) -> None:
+    def check_options(self, owner: str) -> None:
+        """Validate the shared options (``owner``: the name in the messages), from ``__post_init__``."""
         if not (np.ndim(self.damping) == 0 and np.isfinite(self.damping) and self.damping >= 0):
             raise ModelError(f"{owner}: damping must be a finite number ≥ 0, got {self.damping!r}")
         if not (
@@ -192,12 +193,14 @@ class Law:
             )
         return None if limits is None else np.asarray(limits)
 
-    def _scale(self, robot) -> np.ndarray:
+    def scale(self, robot: MobileManipulator) -> np.ndarray:
         """R: the velocity limits when normalised, ones otherwise."""
         return self._limits(robot) if self.normalized else np.ones(robot.n_eta)
 
-    def _saturation(self, robot, eta: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]:
-        """(η after saturation, the limit ratio before it, whether it scaled η)."""
+    def saturation(
+        self, robot: MobileManipulator, eta: jnp.ndarray
+    ) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]:
+        """(η after the ``saturate`` option, the limit ratio max_i |η_i|/η_i,max before it, whether it scaled η)."""
         limits = self._limits(robot)
         if limits is None:
             ratio = jnp.zeros((), eta.dtype)

@@ -42,7 +42,7 @@ class BaylePseudoInverse(PseudoInverseLaw):
         object.__setattr__(self, "k", positive_gain(self.k, "k", "BaylePseudoInverse", allow_zero=True))
         if self.k.ndim:
             raise ModelError(f"BaylePseudoInverse: k must be a scalar ≥ 0, got {self.k!r}")
-        self._check_options("BaylePseudoInverse")
+        self.check_options("BaylePseudoInverse")
 
     def feedback_term(self, e):
         return apply_gain(self.W, e, "W")

@@ -37,7 +37,7 @@ class NaitChabane(PseudoInverseLaw):
         object.__setattr__(self, "W", positive_gain(self.W, "W", "NaitChabane"))
         if self.feedback is not None:
             object.__setattr__(self, "feedback", positive_gain(self.feedback, "feedback", "NaitChabane"))
-        self._check_options("NaitChabane")
+        self.check_options("NaitChabane")
 
     def feedback_term(self, e):
         return jnp.zeros_like(e) if self.feedback is None else apply_gain(self.feedback, e, "feedback")

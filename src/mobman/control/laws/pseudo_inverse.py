@@ -39,7 +39,7 @@ class PseudoInverseLaw(Law):
         task = robot.task if task is None else task
         frames = robot.frames(q)
         xi = task.value(robot, q, frames)
-        scale = self._scale(robot)
+        scale = self.scale(robot)
         jt = robot.apply_S(task.jacobian(robot, q, frames), q) * scale
         e = task.error(xi_star, xi)
         inverse, lam2, sigma_min = damped_inverse(jt, self.damping, self.damping_threshold)
@@ -49,7 +49,7 @@ class PseudoInverseLaw(Law):
             value, grad = jax.value_and_grad(lambda qq: self.criterion(robot, qq, task, xi_star))(q)
             projector = jnp.eye(robot.n_eta, dtype=jt.dtype) - matmul(inverse, jt)
             eta = eta + self.self_motion(projector, robot.S(q) * scale, grad)
-        eta, ratio, saturated = self._saturation(robot, eta * scale)
+        eta, ratio, saturated = self.saturation(robot, eta * scale)
         return PseudoInverseStep(eta, lam2, sigma_min, ratio, saturated, lam2 > 0, P=value)
 
 
