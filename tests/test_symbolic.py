@@ -12,7 +12,16 @@ import sympy as sp
 from mobman import kinematics as K
 from mobman import symbolic as S
 from mobman.errors import ModelError
-from mobman.model import EulerAngles, FunctionTask, Mount, MountPosition, PlanarAngle, Position, robots, stack
+from mobman.model import (
+    FunctionTask,
+    Mount,
+    MountPosition,
+    PlanarAngle,
+    Pose,
+    Position,
+    robots,
+    stack,
+)
 from mobman.model.tasks import elbow_angle
 from mobman.redundancy import sample_configurations
 
@@ -269,7 +278,7 @@ def test_exact_numbers():
 def test_unsupported_inputs_raise_model_errors():
     with pytest.raises(ModelError, match="unknown parameter"):
         S.SymbolicRobot(robots.bayle_planar(), params=("l3",))
-    with pytest.raises(ModelError, match="EulerAngles"):
-        S.jacobian(robots.bayle_rrp(), EulerAngles())
+    with pytest.raises(ModelError, match="Pose is not supported"):  # the rotation vector: no closed form
+        S.jacobian(robots.bayle_rrp(), Pose())
     with pytest.raises(ModelError, match="which"):
         S.rank_drop_conditions(robots.bayle_planar(), which="dynamic")
