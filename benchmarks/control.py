@@ -30,7 +30,7 @@ import mobman  # noqa: F401  (float64)
 from mobman import linalg
 from mobman.control import criteria, laws, references, simulate
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_flops
 
@@ -124,7 +124,7 @@ def compiler_report(robot, task, law, ref, q0s: np.ndarray, seconds_per_step: fl
 
     def evaluate(q):
         xs, xsd = ref(0.0)
-        return law(robot, task, q, 0.0, xs, xsd)[0]
+        return law(robot, task, q, 0.0, xs, xsd).eta
 
     block = jnp.asarray(q0s[:128])
     flops = 4 * xla_flops(jax.vmap(evaluate), block) / block.shape[0]  # RK4: four law evaluations a step

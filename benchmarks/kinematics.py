@@ -40,7 +40,7 @@ from mobman import batching
 from mobman import manipulability as mp
 from mobman.model import MobileManipulator
 from mobman.model.robots import PANDA_LIMITS, PANDA_MODIFIED_DH, panda_differential
-from mobman.model.task import EulerAngles, Position, stack
+from mobman.model.tasks import EulerAngles, Position, stack
 
 from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_flops
 

@@ -28,7 +28,7 @@ from mobman import dynamics as dyn
 from mobman import manipulability as mp
 from mobman.dynamics.reduced import reduced_terms
 from mobman.io.real_robots import REAL_ROBOTS, urdf_model
-from mobman.model.task import EulerAngles, Position, stack
+from mobman.model.tasks import EulerAngles, Position, stack
 from mobman.redundancy import sample_configurations
 
 from timing import best_time

@@ -11,7 +11,7 @@ import numpy as np
 
 from mobman import manipulability as mp
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 l1 = l2 = 0.5
 robot, task = robots.bayle_planar(l1=l1, l2=l2), Position("xy")

@@ -11,7 +11,7 @@ import numpy as np
 
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 robot, task = robots.bayle_planar(l1=0.6, l2=0.6 / np.sqrt(2)), Position("xy")
 reference = references.Ellipse(center=(1.5, 0.5), semi_axes=(1.0, 0.6), period=20.0, phase=-np.pi / 2)

@@ -16,7 +16,7 @@ from mobman.cli import main
 from mobman.experiments import bayle2003 as b
 from mobman.io import trajectories
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 QUICK_DT = 0.05
 RUN_FIELDS = {

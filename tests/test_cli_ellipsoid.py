@@ -14,7 +14,7 @@ from mobman.cli import main
 from mobman.dynamics.ellipsoids import grasp_offsets, grasp_task
 from mobman.dynamics.grasp import grasp_matrix
 from mobman.model import robots
-from mobman.model.task import Position, stack
+from mobman.model.tasks import Position, stack
 
 YAMAMOTO_Q = "0.2,-0.1,0.3,0.3,0.8,1.1,-0.3,-0.8,-1.1"
 TORQUES = np.array([200.0, 200.0, 200.0, 100.0, 30.0, 200.0, 100.0, 30.0])  # Tables 1–2: wheels, joints

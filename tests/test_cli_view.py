@@ -117,7 +117,7 @@ def test_tiago_dynamic_ellipsoid_is_the_one_of_its_urdf_inertials_and_effort_lim
     from mobman.dynamics import DynamicModel
     from mobman.dynamics.ellipsoids import dynamic_ellipsoid
     from mobman.io.real_robots import urdf_model
-    from mobman.model.task import Position
+    from mobman.model.tasks import Position
 
     served = []
 

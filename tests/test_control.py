@@ -15,7 +15,7 @@ from mobman import InputError, ModelError, SingularConfigurationError, batching,
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.control.simulation import _step
 from mobman.model import robots
-from mobman.model.task import FunctionTask, MountPosition, PlanarAngle, Position, stack
+from mobman.model.tasks import FunctionTask, MountPosition, PlanarAngle, Position, elbow_angle, stack
 
 ROBOT = robots.bayle_planar()
 TASK = Position("xy")
@@ -153,7 +153,8 @@ def test_bayle_law_pointwise_properties():
     q = jnp.array([0.2, 0.1, 0.3, 0.7, 1.1])
     xs, xsd = jnp.array([1.3, 0.6]), jnp.array([0.1, -0.2])
     law = bayle(W=np.array([2.0, 3.0]), k=0.7)
-    eta, info = jax.jit(lambda qq: law(ROBOT, TASK, qq, 0.0, xs, xsd))(q)
+    step = jax.jit(lambda qq: law(ROBOT, TASK, qq, 0.0, xs, xsd))(q)
+    eta = step.eta
     jbar = kinematics.reduced_jacobian(ROBOT, q, TASK)
     e = xs - kinematics.forward(ROBOT, q, TASK)
     assert np.allclose(jbar @ eta, xsd + np.array([2.0, 3.0]) * e, atol=1e-12)  # ė = −W e
@@ -163,17 +164,17 @@ def test_bayle_law_pointwise_properties():
     h = s @ (np.eye(4) - pinv @ jbar)
     grad = np.asarray(W5.gradient(ROBOT, q, TASK))
     assert np.allclose(eta - pinv @ (xsd + np.array([2.0, 3.0]) * e), -0.7 * h.T @ grad, atol=1e-12)
-    assert float(info["P"]) == pytest.approx(float(W5(ROBOT, q, TASK)))
+    assert float(step.P) == pytest.approx(float(W5(ROBOT, q, TASK)))
     # Nait-Chabane eq. 30 with W = k I and feedback K equals the Bayle law
     nc = laws.NaitChabane(W=0.7, criterion=W5, feedback=np.array([2.0, 3.0]))
-    assert np.allclose(jax.jit(lambda qq: nc(ROBOT, TASK, qq, 0.0, xs, xsd)[0])(q), eta, atol=1e-12)
+    assert np.allclose(jax.jit(lambda qq: nc(ROBOT, TASK, qq, 0.0, xs, xsd).eta)(q), eta, atol=1e-12)
 
 
 def test_normalized_law_is_the_weighted_minimum_norm_solution():
     q = jnp.array([0.2, 0.1, 0.3, 0.7, 1.1])
     xsd = jnp.array([0.1, -0.2])
     xs = kinematics.forward(ROBOT, q, TASK)
-    eta, _ = laws.BaylePseudoInverse(W=1.0, normalized=True)(ROBOT, TASK, q, 0.0, xs, xsd)
+    eta = laws.BaylePseudoInverse(W=1.0, normalized=True)(ROBOT, TASK, q, 0.0, xs, xsd).eta
     r = np.asarray(ROBOT.velocity_limits)
     jbar = np.asarray(kinematics.reduced_jacobian(ROBOT, q, TASK))
     assert np.allclose(jbar @ eta, xsd, atol=1e-12)
@@ -185,19 +186,18 @@ def test_normalized_law_is_the_weighted_minimum_norm_solution():
 def test_damping_and_saturation_are_reported():
     q = jnp.array([0.0, 0.0, 0.0, 0.7, 1.1])
     xs, xsd = jnp.array([5.0, 5.0]), jnp.array([3.0, 0.0])
-    eta, info = laws.BaylePseudoInverse(W=1.0)(ROBOT, TASK, q, 0.0, xs, xsd)
+    step = laws.BaylePseudoInverse(W=1.0)(ROBOT, TASK, q, 0.0, xs, xsd)
+    eta = step.eta
     ratio = float(np.max(np.abs(eta) / np.asarray(ROBOT.velocity_limits)))
-    assert float(info["limit_ratio"]) == pytest.approx(ratio) and ratio > 1 and not info["saturated"]
-    sat, info = laws.BaylePseudoInverse(W=1.0, saturate=True)(ROBOT, TASK, q, 0.0, xs, xsd)
-    assert bool(info["saturated"]) and np.allclose(sat, eta / ratio)
+    assert float(step.limit_ratio) == pytest.approx(ratio) and ratio > 1 and not step.saturated
+    step = laws.BaylePseudoInverse(W=1.0, saturate=True)(ROBOT, TASK, q, 0.0, xs, xsd)
+    assert bool(step.saturated) and np.allclose(step.eta, eta / ratio)
     # damping active when σ_min < ε: λ² = λ_max² (1 − (σ_min/ε)²)
-    damped, info = laws.BaylePseudoInverse(W=1.0, damping=0.3, damping_threshold=100.0)(
-        ROBOT, TASK, q, 0.0, xs, xsd
-    )
+    step = laws.BaylePseudoInverse(W=1.0, damping=0.3, damping_threshold=100.0)(ROBOT, TASK, q, 0.0, xs, xsd)
     smin = np.linalg.svd(np.asarray(kinematics.reduced_jacobian(ROBOT, q, TASK)), compute_uv=False)[-1]
-    assert float(info["sigma_min"]) == pytest.approx(smin)
-    assert float(info["damping"]) == pytest.approx(0.09 * (1 - (smin / 100.0) ** 2)) and bool(info["damped"])
-    assert np.linalg.norm(damped) < np.linalg.norm(eta)
+    assert float(step.sigma_min) == pytest.approx(smin)
+    assert float(step.damping) == pytest.approx(0.09 * (1 - (smin / 100.0) ** 2)) and bool(step.damped)
+    assert np.linalg.norm(step.eta) < np.linalg.norm(eta)
 
 
 def test_law_errors():
@@ -425,7 +425,7 @@ def test_augmented_jacobian_hits_end_points():
     robot = robots.korayem_planar()
     q0 = np.array([0.0, 0.0, 0.0, np.pi / 3, np.pi / 2])
     task = Position("xy")
-    extra = stack(PlanarAngle(), FunctionTask(robots.elbow_angle, ("beta",)))
+    extra = stack(PlanarAngle(), FunctionTask(elbow_angle, ("beta",)))
     start = np.asarray(kinematics.forward(robot, q0, stack(task, extra)))
     end = start + np.array([0.8, 0.5, 0.3, -0.4])
     law = laws.AugmentedJacobian(extra=extra, feedback=5.0)

@@ -23,7 +23,7 @@ from mobman.dynamics.ellipsoids import (
 from mobman.dynamics.grasp import HeldObject, grasp_matrix
 from mobman.errors import InputError, ModelError
 from mobman.model import robots
-from mobman.model.task import PlanarAngle, Position, stack
+from mobman.model.tasks import PlanarAngle, Position, stack
 
 RNG = np.random.default_rng(3)
 LIMITS = np.array([200.0, 200.0, 200.0, 100.0, 30.0, 200.0, 100.0, 30.0])

@@ -10,7 +10,7 @@ import pytest
 from mobman import kinematics as K
 from mobman.experiments import korayem_kinematics as kk
 from mobman.model import robots
-from mobman.model.task import MountPosition, Position, stack
+from mobman.model.tasks import MountPosition, Position, stack
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ from mobman import kinematics as K
 from mobman import manipulability as mp
 from mobman.errors import InputError, ModelError
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 RNG = np.random.default_rng(7)
 

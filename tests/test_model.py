@@ -32,6 +32,7 @@ from mobman.model import (
     stack,
 )
 from mobman.model.spatial import euler_angles, euler_matrix
+from mobman.model.tasks import elbow_angle
 
 ALL = [f() for f in robots.PAPER_ROBOTS.values()]  # the real robots: test_urdf_pinocchio.py
 angles = st.floats(-math.pi, math.pi)
@@ -183,7 +184,7 @@ def test_planar_angle_equals_angle_sum():
 
 def test_function_task_elbow_angle():
     robot = robots.korayem_planar()
-    task = FunctionTask(robots.elbow_angle, ("beta",))
+    task = FunctionTask(elbow_angle, ("beta",))
     q = np.array([0, 0, 0, 0.3, 1.0])
     assert float(K.forward(robot, q, task)[0]) == pytest.approx(math.pi - 1.0)
     np.testing.assert_allclose(K.jacobian(robot, q, task), [[0, 0, 0, 0, -1]])

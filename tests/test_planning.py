@@ -212,7 +212,7 @@ def test_piecewise_constant_controls_plan_to_machine_precision():
 def test_a_pose_output_is_refused_with_a_clear_error():
     """The planners subtract endpoints (y_d − K(z)): a Pose task, whose error is log(R* Rᵀ), is refused."""
     from mobman.model.robots import panda_differential
-    from mobman.model.task import Pose
+    from mobman.model.tasks import Pose
 
     with pytest.raises(InputError, match="planning output .*not a pose"):
         PlanningSetting(panda_differential(), task=Pose())

@@ -19,7 +19,7 @@ from mobman.control import criteria, laws, metrics, references, simulate, spec
 from mobman.errors import InputError, ModelError
 from mobman.kinematics import reduced_jacobian
 from mobman.model import robots, so3
-from mobman.model.task import EulerAngles, FunctionTask, Pose, Position, stack
+from mobman.model.tasks import EulerAngles, FunctionTask, Pose, Position, stack
 
 ROBOT = robots.panda_differential()
 LOWER = np.array([lo for lo, _ in ROBOT.position_limits[3:]])
@@ -246,7 +246,7 @@ def test_laws_regulate_the_rotation_error():
         ),
     ]
     for law, gain, reference, velocity in cases:
-        eta, _ = jax.jit(lambda qq, law=law, r=reference, v=velocity: law(ROBOT, Pose(), qq, 0.0, r, v))(q)
+        eta = jax.jit(lambda qq, law=law, r=reference, v=velocity: law(ROBOT, Pose(), qq, 0.0, r, v).eta)(q)
         np.testing.assert_allclose(jbar @ np.asarray(eta), xi_star_dot + gain * e, rtol=0, atol=1e-10)
     np.testing.assert_allclose(np.asarray(eta)[2:5], 1.5 * 0.01 * np.ones(3), rtol=0, atol=1e-10)
 

@@ -12,7 +12,7 @@ from mobman.cli import main
 from mobman.errors import InputError
 from mobman.io import robot_file
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "planar_robot.toml"
 

@@ -304,7 +304,7 @@ def test_dynamic_ellipsoid_is_drawn_where_a_dynamic_model_exists():
     from mobman.dynamics import yamamoto_model
     from mobman.dynamics.ellipsoids import dynamic_ellipsoid
     from mobman.experiments.yamamoto1999 import torque_limits
-    from mobman.model.task import Position
+    from mobman.model.tasks import Position
 
     model = yamamoto_model()
     robot, limits = model.robot, torque_limits(model.robot)

@@ -12,7 +12,7 @@ from mobman import kinematics as K
 from mobman import viz
 from mobman.errors import InputError
 from mobman.model import robots
-from mobman.model.task import MountPosition, Position
+from mobman.model.tasks import MountPosition, Position
 
 
 @pytest.fixture(scope="module")

@@ -25,7 +25,7 @@ import numpy as np
 from mobman.batching import across_cores, blocked
 from mobman.errors import InputError, SingularConfigurationError
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import Task
+from mobman.model.tasks import Task
 
 
 def resolve_task(robot: MobileManipulator, task: Task | None) -> Task:
@@ -139,7 +139,7 @@ def reduced_jacobian(robot: MobileManipulator, q, task: Task | None = None) -> j
 
 def representation_singular(robot: MobileManipulator, q, task: Task | None = None) -> np.ndarray:
     """True where the task's coordinates are singular as a representation (the heading of a vertical axis,
-    an Euler set's gimbal lock; :mod:`mobman.model.task`), boolean, shape (...). There ξ is not a chart of the
+    an Euler set's gimbal lock; :mod:`mobman.model.tasks`), boolean, shape (...). There ξ is not a chart of the
     frame and J, J̄ may be unbounded or NaN; kinematic and velocity singularities (KSC, VSC) are another
     matter, a property of the robot."""
     return np.asarray(_representation(robot, validated_q(robot, q), resolve_task(robot, task)), dtype=bool)

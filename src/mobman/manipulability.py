@@ -39,7 +39,7 @@ from mobman.batching import across_cores, blocked
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import Task
+from mobman.model.tasks import Task
 
 MEASURES = ("yoshikawa", "inverse_condition", "eccentricity")
 WHICH = ("arm", "system", "system_normalized")

@@ -31,7 +31,7 @@ import numpy as np
 from mobman import kinematics as K
 from mobman.errors import SingularConfigurationError
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import Task
+from mobman.model.tasks import Task
 
 RTOL = 1e-9
 """Default relative rank tolerance: singular values ≤ RTOL · σmax count as zero."""

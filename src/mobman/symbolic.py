@@ -37,7 +37,7 @@ import sympy as sp
 from mobman.errors import ModelError
 from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import Elevation, FunctionTask, MountPosition, PlanarAngle, Position, Stack, Task
+from mobman.model.tasks import Task
 
 Pose = tuple[sp.Matrix, sp.Matrix]
 
@@ -229,42 +229,31 @@ class SymbolicRobot:
     # --- tasks ---------------------------------------------------------------------------------------
 
     def forward(self, task: Task | None = None) -> sp.Matrix:
-        """ξ = f(q) for the task (the robot's own by default), as a column matrix."""
+        """ξ = f(q) for the task (the robot's own by default), as a column matrix: the task's own closed form
+        (``task.symbolic(self)``), simplified entry by entry."""
         task = self.robot.task if task is None else task
         task.check(self.robot)
-        return sp.Matrix([simplify(e) for e in self._value(task)])
+        return sp.Matrix([simplify(e) for e in task.symbolic(self)])
 
-    def _value(self, task: Task) -> list[sp.Expr]:
-        if isinstance(task, Stack):
-            return [e for t in task.tasks for e in self._value(t)]
-        index = {"x": 0, "y": 1, "z": 2}
-        if isinstance(task, Position):
-            r, p = self.link_poses(task.arm)[task.link]
-            point = p + r * sp.Matrix([exact(v) for v in task.point])
-            return [point[index[c]] for c in task.components]
-        if isinstance(task, MountPosition):
-            p = self.mount_pose(task.arm)[1]
-            return [p[index[c]] for c in task.components]
-        if isinstance(task, PlanarAngle):
-            r = self.link_poses(task.arm)[task.link][0]
-            if task.sequence == "ZYX":
-                return [_angle(r[1, 0], r[0, 0])]
-            return [_angle(-r[0, 1], r[1, 1])]
-        if isinstance(task, Elevation):
-            r = self.link_poses(task.arm)[task.link][0]
-            return [_angle(r[2, 0], r[2, 2])]
-        if isinstance(task, FunctionTask):
-            q = np.empty(len(self.q), dtype=object)
-            q[:] = self.q
-            try:
-                out = np.asarray(task.fn(q), dtype=object).reshape(-1)
-            except Exception as exc:
-                raise ModelError(
-                    f"symbolic: FunctionTask {task.names} cannot be evaluated on SymPy symbols ({exc}); write it "
-                    "with operations that accept a NumPy object array"
-                ) from None
-            return [sp.sympify(v).replace(lambda e: e.is_Float, lambda e: exact(float(e))) for v in out]
-        raise ModelError(f"symbolic: task {type(task).__name__} is not supported symbolically")
+    def vector(self, values: Sequence[float]) -> sp.Matrix:
+        """A column of model numbers as exact SymPy numbers (:func:`exact`)."""
+        return sp.Matrix([exact(v) for v in values])
+
+    def angle(self, y: sp.Expr, x: sp.Expr) -> sp.Expr:
+        """atan2(y, x) of two rotation entries, as the angle u itself where (y, x) = c (sin u, cos u) with c > 0
+        (a heading or elevation that follows a joint over the whole turn, equal to u modulo 2π)."""
+        y, x = simplify(y), simplify(x)
+        for factor in sp.Mul.make_args(y):
+            if isinstance(factor, sp.sin):
+                u = factor.args[0]
+                c = sp.factor_terms(y / factor)
+                if c.is_positive and sp.expand(x - c * sp.cos(u)) == 0:
+                    return u
+        return sp.atan2(y, x)
+
+    def exact(self, expr: sp.Expr) -> sp.Expr:
+        """``expr`` with its floating-point numbers made exact where they are simple (:func:`exact`)."""
+        return expr.replace(lambda e: e.is_Float, lambda e: exact(float(e)))
 
     def jacobian(self, task: Task | None = None) -> sp.Matrix:
         """J = ∂f/∂q of the simplified ξ, simplified entry by entry (Bayle §3)."""
@@ -290,19 +279,6 @@ def model(
 ) -> SymbolicRobot:
     """The (cached) symbolic model of a robot with the given parameters kept as symbols."""
     return SymbolicRobot(robot, params, factory)
-
-
-def _angle(y: sp.Expr, x: sp.Expr) -> sp.Expr:
-    """atan2(y, x) of two rotation entries, as the angle u itself where (y, x) = c (sin u, cos u) with c > 0
-    (a heading or elevation that follows a joint over the whole turn, equal to u modulo 2π)."""
-    y, x = simplify(y), simplify(x)
-    for factor in sp.Mul.make_args(y):
-        if isinstance(factor, sp.sin):
-            u = factor.args[0]
-            c = sp.factor_terms(y / factor)
-            if c.is_positive and sp.expand(x - c * sp.cos(u)) == 0:
-                return u
-    return sp.atan2(y, x)
 
 
 def _chart(expr: sp.Expr) -> sp.Expr:

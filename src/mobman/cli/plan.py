@@ -29,7 +29,7 @@ from mobman.io import dump_json, trajectories
 from mobman.io.numbers import parse_vector
 from mobman.io.output import check_folder, results_folder
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import FunctionTask
+from mobman.model.tasks import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, plan
 from mobman.planning.basis import Fourier
 from mobman.planning.endpoint import PlanningSetting, configuration_path, dexterity

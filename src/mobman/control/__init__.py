@@ -33,7 +33,6 @@ from mobman.control import criteria, laws, metrics, references
 from mobman.control.simulation import (
     SimulationResult,
     compute_measures,
-    controlled_task,
     simulate,
     simulate_pieces,
 )
@@ -41,7 +40,6 @@ from mobman.control.simulation import (
 __all__ = [
     "SimulationResult",
     "compute_measures",
-    "controlled_task",
     "criteria",
     "laws",
     "metrics",

@@ -94,7 +94,7 @@ class RunningSummary:
     def add(self, piece) -> None:
         """Feed the next samples: a :class:`~mobman.control.simulation.SimulationResult` of one run."""
         from mobman.kinematics import forward
-        from mobman.model.task import Position
+        from mobman.model.tasks import Position
 
         if piece.q.ndim != 2:
             raise InputError(f"summarize: one run expected, got q of shape {piece.q.shape} (a batch?)")

@@ -7,7 +7,7 @@ then have shape ``t.shape + (dim,)``). Before t = 0 a reference holds its initia
 holds its final value (with zero velocity), except the periodic :class:`Ellipse`.
 
 Pose references (:class:`PoseReference`, :class:`PoseFunctionReference`) are for a
-:class:`~mobman.model.task.Pose` task: ξ* = (p*, log R*) and ξ̇* = (ṗ*, ω*), the linear and the world-frame
+:class:`~mobman.model.tasks.Pose` task: ξ* = (p*, log R*) and ξ̇* = (ṗ*, ω*), the linear and the world-frame
 angular velocity (not the derivative of the rotation vector).
 
 Timing laws s(τ), τ ∈ [0, 1] (Biagiotti & Melchiorri, *Trajectory planning for automatic machines*, §2.1):
@@ -251,7 +251,7 @@ def _pose_sample(p, r, p_dot, omega):
 @pytree("start", "end", "rotation_step", "duration")
 @dataclass(frozen=True, eq=False)
 class PoseReference(Reference):
-    """A pose path for a :class:`~mobman.model.task.Pose` task: the position on the straight segment from
+    """A pose path for a :class:`~mobman.model.tasks.Pose` task: the position on the straight segment from
     p₀ to p₁ and the orientation on the geodesic (slerp) from R₀ to R₁, both at the same timing law
     s(t/duration):
 
@@ -302,7 +302,7 @@ class PoseReference(Reference):
 @dataclass(frozen=True, eq=False)
 class PoseFunctionReference(Reference):
     """A user pose path t ↦ (p(t), R(t)) of a scalar t written with ``jax.numpy`` (R a 3 × 3 rotation
-    matrix), for a :class:`~mobman.model.task.Pose` task. The velocity comes from forward-mode autodiff:
+    matrix), for a :class:`~mobman.model.tasks.Pose` task. The velocity comes from forward-mode autodiff:
     ṗ, and ω = vee(Ṙ Rᵀ), the world-frame angular velocity."""
 
     fn: Callable[[jnp.ndarray], tuple[jnp.ndarray, jnp.ndarray]]

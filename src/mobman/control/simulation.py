@@ -37,13 +37,13 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 
 from mobman.batching import across_cores
-from mobman.control.laws import AugmentedJacobian
+from mobman.control.laws import Law
 from mobman.control.references import Reference
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.spatial import matvec
-from mobman.model.task import Task, stack
+from mobman.model.tasks import Task
 
 INTEGRATORS = ("auto", "lie", "rk4", "hold")
 _MEASURE_SUFFIX = {"w": "yoshikawa", "w2": "inverse_condition", "w5": "eccentricity"}
@@ -55,9 +55,11 @@ class SimulationResult:
     """Samples at t_k = k dt, k = 0 … N − 1 (a leading batch axis first when batched).
 
     ``error`` = the controlled task's error e(ξ*, ξ) (ξ* − ξ for vector tasks, position difference and
-    rotation vector log(R* Rᵀ) for a :class:`~mobman.model.task.Pose`) over the controlled task (the task
-    stacked with the extra rows for :class:`~mobman.control.laws.AugmentedJacobian`); ``measures`` name → values; ``info`` the law's
-    per-step entries (``damping`` λ², ``sigma_min``, ``limit_ratio``, ``P``, ``det``, …).
+    rotation vector log(R* Rᵀ) for a :class:`~mobman.model.tasks.Pose`) over the controlled task
+    (``law.controlled_task(task)``: the task stacked with the extra rows for
+    :class:`~mobman.control.laws.AugmentedJacobian`); ``measures`` name → values; ``info`` the fields of the
+    law's :class:`~mobman.control.laws.LawStep` per step but η, ``saturated`` and ``damped`` (``damping`` λ²,
+    ``sigma_min``, ``limit_ratio``, ``P``, ``det``, …).
     """
 
     t: np.ndarray
@@ -91,11 +93,6 @@ class SimulationResult:
 
         batched = ("q", "eta", "xi", "xi_star", "error", "measures", "saturated", "damped", "info")
         return replace(self, **{name: pick(getattr(self, name)) for name in batched})
-
-
-def controlled_task(law, task: Task) -> Task:
-    """The task whose error the law regulates: ``task``, stacked with ``law.extra`` for the augmented law."""
-    return stack(task, law.extra) if isinstance(law, AugmentedJacobian) else task
 
 
 def _unicycle_exp(q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
@@ -167,14 +164,15 @@ def _hold(robot, q, eta, h):
 def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
     """n samples from q0 at t = k0 dt (one configuration, one law)."""
 
-    ctask = controlled_task(law, task)
+    ctask = law.controlled_task(task)
 
     def control(q, t):
         xs, xsd = reference._one(t)
-        eta, info = law(robot, task, q, t, xs, xsd)
+        result = law(robot, task, q, t, xs, xsd)
         # (ξ*, ξ) as one entry: ξ as the law computes it (XLA evaluates it once), recorded here rather than
         # recomputed after the run, without one more output buffer per step (see _block_steps)
-        return eta, dict(info, xi_pair=jnp.stack([xs, ctask.value(robot, q, robot.frames(q))]))
+        xi_pair = jnp.stack([xs, ctask.value(robot, q, robot.frames(q))])
+        return result.eta, dict(result.recorded(), xi_pair=xi_pair)
 
     def step(q, k):
         if integrator == "hold":
@@ -320,7 +318,9 @@ def _setup(robot, task, law, reference, q0, duration, dt, measures, integrator) 
     laws = list(law) if batch_law else [law]
     if not laws:
         raise InputError("law: give one law or a non-empty list of laws")
-    ctask = controlled_task(laws[0], task)
+    if not all(isinstance(one, Law) for one in laws):
+        raise InputError("law: a control law (mobman.control.laws) or a list of them")
+    ctask = laws[0].controlled_task(task)
     if reference.dim != ctask.dim:
         raise ModelError(
             f"reference has {reference.dim} components, the controlled task {ctask.names} has {ctask.dim}"
@@ -467,7 +467,6 @@ __all__ = [
     "INTEGRATORS",
     "SimulationResult",
     "compute_measures",
-    "controlled_task",
     "simulate",
     "simulate_pieces",
 ]

@@ -13,9 +13,11 @@ name = "bayle-planar"
 params = { l1 = 0.5, l2 = 0.5 }
 
 [task]                           # optional, default: the robot's own task
-kind = "position"                # position | planar_angle | elevation | mount_position | elbow_angle | pose
-components = "xy"                # | stack: tasks = [{kind = ...}, ...]; pose: arm, link, label
-                                 # planar_angle: sequence = "ZYX" (heading of x) | "ZXY"
+kind = "position"                # a task kind (mobman.model.tasks.task_kinds()): position | planar_angle |
+components = "xy"                # elevation | euler_angles | mount_position | elbow_angle | pose | stack;
+                                 # the other keys are the task's fields (mobman.io.tasks): position:
+                                 # components, arm, link, point, label; planar_angle: sequence = "ZYX"
+                                 # (heading of x) | "ZXY"; stack: tasks = [{kind = ...}, ...]
 
 [reference]
 kind = "ellipse"                 # line | ellipse | polyline | pose
@@ -48,31 +50,21 @@ what is allowed; the command line turns it into one line and exit status 2.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from mobman.control import criteria, laws, references
 from mobman.control.simulation import INTEGRATORS, parse_measure_names
 from mobman.errors import InputError, MobmanError
-from mobman.io import robot_file
+from mobman.io import robot_file, tasks
 from mobman.io import spec as fields
 from mobman.io.numbers import parse_vector
-from mobman.model import robots, spatial
+from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import (
-    HEADING_SEQUENCES,
-    Elevation,
-    FunctionTask,
-    MountPosition,
-    PlanarAngle,
-    Pose,
-    Position,
-    Task,
-    stack,
-)
+from mobman.model.tasks import Task
 
 TOP_KEYS = (
     "duration",
@@ -95,69 +87,13 @@ class Spec:
 
     robot: MobileManipulator
     task: Task
-    law: Any
+    law: laws.Law
     reference: references.Reference
     q0: np.ndarray
     duration: float
     dt: float
     measures: tuple[str, ...]
     integrator: str
-
-
-def _task(table: dict, field: str) -> Task:
-    def position(t):
-        fields.keys(t, field, ("kind", "components", "arm", "link", "label"))
-        return fields.build(
-            field,
-            Position,
-            components=t.get("components", "xyz"),
-            arm=t.get("arm", 0),
-            link=t.get("link", -1),
-            label=t.get("label", "ee"),
-        )
-
-    def mount(t):
-        fields.keys(t, field, ("kind", "components", "arm"))
-        return fields.build(field, MountPosition, components=t.get("components", "xy"), arm=t.get("arm", 0))
-
-    def planar(t):
-        fields.keys(t, field, ("kind", "arm", "link", "sequence"))
-        sequence = fields.text(t, "sequence", field, "ZYX", allowed=HEADING_SEQUENCES)
-        return fields.build(
-            field, PlanarAngle, arm=t.get("arm", 0), link=t.get("link", -1), sequence=sequence
-        )
-
-    def elevation(t):
-        fields.keys(t, field, ("kind", "arm", "link"))
-        return fields.build(field, Elevation, arm=t.get("arm", 0), link=t.get("link", -1))
-
-    def pose(t):
-        fields.keys(t, field, ("kind", "arm", "link", "label"))
-        return fields.build(
-            field, Pose, arm=t.get("arm", 0), link=t.get("link", -1), label=t.get("label", "ee")
-        )
-
-    def elbow(t):
-        fields.keys(t, field, ("kind",))
-        return FunctionTask(robots.elbow_angle, ("beta",))
-
-    def stacked(t):
-        fields.keys(t, field, ("kind", "tasks"))
-        parts = t.get("tasks")
-        if not isinstance(parts, list) or not parts or not all(isinstance(p, dict) for p in parts):
-            raise InputError(f"{field}.tasks: a list of task tables")
-        return stack(*(_task(p, f"{field}.tasks[{i}]") for i, p in enumerate(parts)))
-
-    kinds = {
-        "position": position,
-        "mount_position": mount,
-        "planar_angle": planar,
-        "elevation": elevation,
-        "elbow_angle": elbow,
-        "pose": pose,
-        "stack": stacked,
-    }
-    return fields.kind(table, field, kinds)(table)
 
 
 def _reference(data: dict) -> references.Reference:
@@ -260,58 +196,26 @@ def _criterion(table: dict | None, field: str) -> criteria.Criterion | None:
     return fields.kind(table, field, kinds)(table)
 
 
-def _law(data: dict):
+def _law(data: dict) -> laws.Law:
+    """The law of ``[law]`` by its kind (:func:`mobman.control.laws.law_kinds`): its gains from ``[gains]``,
+    its other fields from ``[law]``, its criterion from ``[criterion]``."""
     table = fields.table(data, "law", "law")
+    cls = fields.kind(table, "law", {kind: laws.law_class(kind) for kind in laws.law_kinds()})
     gains = fields.table(data, "gains", "gains", required=False) or {}
-    criterion = _criterion(fields.table(data, "criterion", "criterion", required=False), "criterion")
-    options = {k: table[k] for k in ("damping", "damping_threshold", "normalized", "saturate") if k in table}
-    for key in ("damping", "damping_threshold"):
-        if key in options:
-            options[key] = fields.number(table, key, "law")
-    for key in ("normalized", "saturate"):
-        if key in options and not isinstance(options[key], bool):
-            raise InputError(f"law.{key}: must be true or false, got {options[key]!r}")
-
-    def gain(key, default=None):
-        return default if gains.get(key) is None else fields.array(gains[key], f"gains.{key}")
-
-    def bayle(t):
-        fields.keys(t, "law", ("kind", "damping", "damping_threshold", "normalized", "saturate"))
-        fields.keys(gains, "gains", ("W", "k"))
-        return fields.build(
-            "gains",
-            laws.BaylePseudoInverse,
-            W=gain("W", 1.0),
-            k=gain("k", 0.0),
-            criterion=criterion,
-            **options,
-        )
-
-    def nait_chabane(t):
-        fields.keys(t, "law", ("kind", "damping", "damping_threshold", "normalized", "saturate"))
-        fields.keys(gains, "gains", ("W", "feedback"))
-        return fields.build(
-            "gains",
-            laws.NaitChabane,
-            W=gain("W", 1.0),
-            criterion=criterion,
-            feedback=gain("feedback"),
-            **options,
-        )
-
-    def augmented(t):
-        fields.keys(t, "law", ("kind", "extra", "damping", "damping_threshold", "normalized", "saturate"))
-        fields.keys(gains, "gains", ("feedback",))
-        if criterion is not None:
-            raise InputError("criterion: the augmented-Jacobian law has no self-motion, remove [criterion]")
-        extra = _task(fields.table(t, "extra", "law.extra"), "law.extra")
-        return fields.build(
-            "gains", laws.AugmentedJacobian, extra=extra, feedback=gain("feedback"), **options
-        )
-
-    return fields.kind(table, "law", {"bayle": bayle, "nait-chabane": nait_chabane, "augmented": augmented})(
-        table
+    values = fields.dataclass_values(cls, gains, "gains", names=cls.gains, other_keys=())
+    values |= fields.dataclass_values(
+        cls,
+        table,
+        "law",
+        names=[f.name for f in dataclasses.fields(cls) if f.name not in cls.gains],
+        convert={Task: tasks.task},
     )
+    criterion_table = fields.table(data, "criterion", "criterion", required=False)
+    if criterion_table is not None:
+        if "criterion" not in {f.name for f in dataclasses.fields(cls)}:
+            raise InputError(f"criterion: the {table['kind']} law has no self-motion, remove [criterion]")
+        values["criterion"] = _criterion(criterion_table, "criterion")
+    return fields.build("gains", cls, **values)
 
 
 def parse(data: dict, base: Path | None = None) -> Spec:
@@ -319,7 +223,7 @@ def parse(data: dict, base: Path | None = None) -> Spec:
     fields.keys(data, "spec", TOP_KEYS)
     robot = robot_file.robot_table(data, base)
     task_table = fields.table(data, "task", "task", required=False)
-    task = robot.task if task_table is None else _task(task_table, "task")
+    task = robot.task if task_table is None else tasks.task(task_table, "task")
     try:
         task.check(robot)
     except MobmanError as exc:
@@ -339,9 +243,7 @@ def parse(data: dict, base: Path | None = None) -> Spec:
         raise InputError(f"integrator: {integrator!r} not one of {', '.join(INTEGRATORS)}")
     law = _law(data)
     reference = _reference(data)
-    from mobman.control.simulation import controlled_task
-
-    ctask = controlled_task(law, task)
+    ctask = law.controlled_task(task)
     if reference.dim != ctask.dim:
         raise InputError(
             f"reference: {reference.dim} components, the controlled task {ctask.names} has {ctask.dim}"

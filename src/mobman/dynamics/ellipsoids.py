@@ -56,7 +56,7 @@ from mobman.dynamics.grasp import HeldObject, grasp_matrix, grasp_matrix_rate
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import PlanarAngle, Position, Task, stack
+from mobman.model.tasks import PlanarAngle, Position, Task, stack
 
 Method = Literal["paper", "exact"]
 Grasp = Literal["rigid", "point"]

@@ -29,7 +29,7 @@ from mobman.experiments.report import Reproduction
 from mobman.io import trajectories
 from mobman.io.output import save_figure
 from mobman.model import robots
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 TITLE = "Bayle, Fourquet & Renaud (2003): manipulability-based redundancy resolution (Fig. 5 and 6)"
 

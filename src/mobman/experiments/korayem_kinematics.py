@@ -32,7 +32,7 @@ from mobman.io import trajectories
 from mobman.io.output import save_figure
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import FunctionTask, MountPosition, PlanarAngle, Position, Task, stack
+from mobman.model.tasks import ElbowAngle, MountPosition, PlanarAngle, Position, Task, stack
 
 NAME = "korayem-kinematics"
 TITLE = "Korayem, Ghariblu & Basu — Analysis of kinematic redundancy on mobile manipulators (models 1 and 2)"
@@ -63,7 +63,7 @@ class Model:
 def models() -> tuple[Model, Model]:
     """Models 1 and 2 with the paper's task vectors converted from cm and degrees to m and rad."""
     deg = math.pi / 180.0
-    beta = FunctionTask(robots.elbow_angle, ("beta",))
+    beta = ElbowAngle()
     return (
         Model(
             1,

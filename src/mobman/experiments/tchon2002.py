@@ -19,7 +19,7 @@ import numpy as np
 from mobman.experiments.report import Reproduction
 from mobman.io import trajectories
 from mobman.model.robots import tchon_car_rtr
-from mobman.model.task import FunctionTask
+from mobman.model.tasks import FunctionTask
 from mobman.planning.algorithms import Options
 from mobman.planning.basis import Fourier
 from mobman.planning.batch import BatchResult, plan_batch

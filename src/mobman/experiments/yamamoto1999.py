@@ -28,7 +28,7 @@ from mobman.dynamics.grasp import HeldObject
 from mobman.experiments.report import Reproduction
 from mobman.io.output import save_figure
 from mobman.model.robot import MobileManipulator
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 TITLE = "Yamamoto & Yun (1999), Unified analysis on mobility and manipulability of mobile manipulators"
 

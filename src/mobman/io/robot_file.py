@@ -38,7 +38,7 @@ from mobman.model.arm import Arm
 from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional
 from mobman.model.robot import MobileManipulator, Mount
 from mobman.model.spatial import transform
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 
 PLATFORMS = {"differential": DifferentialDrive, "car": CarLike, "omnidirectional": Omnidirectional}
 CONVENTIONS = {"dh": Arm.from_dh, "modified-dh": Arm.from_modified_dh}

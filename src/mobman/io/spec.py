@@ -4,10 +4,13 @@ field and raises :class:`~mobman.errors.InputError` naming it (``robot.params.l1
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import difflib
 import math
 import tomllib
-from collections.abc import Iterator
+import types
+import typing
+from collections.abc import Callable, Collection, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -197,3 +200,79 @@ def build(field: str, factory, /, **kwargs):
         return factory(**kwargs)
     except (MobmanError, TypeError, ValueError) as exc:
         raise InputError(f"{field}: {' '.join(str(exc).split())}") from None
+
+
+def _converted(value: Any, tp: Any, field: str, key: str, choices: tuple[str, ...], convert: Mapping) -> Any:
+    """``value`` (at ``field.key``) read as the annotation ``tp`` (see :func:`dataclass_values`)."""
+    origin, args = typing.get_origin(tp), typing.get_args(tp)
+    name = f"{field}.{key}" if field else key
+    if origin in (typing.Union, types.UnionType):
+        (inner,) = [a for a in args if a is not type(None)]
+        return _converted(value, inner, field, key, choices, convert)
+    if tp in convert:
+        return convert[tp](value, name)
+    if tp is bool:
+        if not isinstance(value, bool):
+            raise InputError(f"{name}: must be true or false, got {_shown(value)}")
+        return value
+    if tp is np.ndarray:
+        return array(value, name)
+    readers = {
+        str: lambda: text({key: value}, key, field, allowed=choices),
+        int: lambda: integer({key: value}, key, field),
+        float: lambda: number({key: value}, key, field),
+    }
+    if tp in readers:
+        return readers[tp]()
+    if origin is not tuple or not isinstance(value, list):
+        raise InputError(f"{name}: must be an array, got {_shown(value)}")
+    variadic = len(args) == 2 and args[1] is Ellipsis
+    if not variadic and len(value) != len(args):
+        raise InputError(f"{name}: {len(args)} values, got {len(value)}")
+    items = [args[0]] * len(value) if variadic else list(args)
+    return tuple(
+        _converted(v, t, field, f"{key}[{i}]", (), convert) for i, (v, t) in enumerate(zip(value, items))
+    )
+
+
+def _readable(tp: Any, convert: Mapping) -> bool:
+    """Whether a field annotated ``tp`` can be read from a file (a number, string, bool, array, a tuple of
+    those or a type of ``convert``)."""
+    origin, args = typing.get_origin(tp), typing.get_args(tp)
+    if origin in (typing.Union, types.UnionType):
+        inner = [a for a in args if a is not type(None)]
+        return len(inner) == 1 and _readable(inner[0], convert)
+    if origin is tuple:
+        return all(a is Ellipsis or _readable(a, convert) for a in args)
+    return tp in convert or tp in (str, bool, int, float, np.ndarray)
+
+
+def dataclass_values(
+    cls: type,
+    entries: dict,
+    field: str,
+    *,
+    names: Collection[str] | None = None,
+    other_keys: tuple[str, ...] = ("kind",),
+    choices: Mapping[str, tuple[str, ...]] | None = None,
+    convert: Mapping[type, Callable[[Any, str], Any]] | None = None,
+) -> dict[str, Any]:
+    """The keyword arguments of the dataclass ``cls`` given by a file's table: its keys are the fields that a
+    file can give (``names``, if given, keeps only those; ``other_keys`` are allowed and left out), each value
+    converted by the field's annotation — str, int, float, bool, a NumPy array, a tuple of those, or a type
+    found in ``convert`` (value, field name → object: a nested table). ``choices`` lists the allowed values
+    of string fields. Absent keys are left out (the dataclass defaults apply); an unknown key or a value of
+    the wrong type raises InputError naming it."""
+    convert = convert or {}
+    hints = typing.get_type_hints(cls)
+    readable = [
+        f.name
+        for f in dataclasses.fields(cls)
+        if f.init and (names is None or f.name in names) and _readable(hints[f.name], convert)
+    ]
+    keys(entries, field, (*other_keys, *readable))
+    return {
+        key: _converted(entries[key], hints[key], field, key, (choices or {}).get(key, ()), convert)
+        for key in readable
+        if key in entries
+    }

@@ -3,7 +3,8 @@
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional, Platform
 from mobman.model.robot import Frames, MobileManipulator, Mount
-from mobman.model.task import (
+from mobman.model.tasks import (
+    ElbowAngle,
     Elevation,
     EulerAngles,
     FunctionTask,
@@ -14,12 +15,15 @@ from mobman.model.task import (
     Stack,
     Task,
     stack,
+    task_class,
+    task_kinds,
 )
 
 __all__ = [
     "Arm",
     "CarLike",
     "DifferentialDrive",
+    "ElbowAngle",
     "Elevation",
     "EulerAngles",
     "Frames",
@@ -37,4 +41,6 @@ __all__ = [
     "Stack",
     "Task",
     "stack",
+    "task_class",
+    "task_kinds",
 ]

@@ -26,7 +26,7 @@ from mobman.model.spatial import Transform
 from mobman.model.visual import Visual
 
 if TYPE_CHECKING:
-    from mobman.model.task import Task
+    from mobman.model.tasks import Task
 
 
 _all_finite = jax.jit(lambda q: jnp.all(jnp.isfinite(q)))
@@ -107,7 +107,7 @@ class MobileManipulator:
         object.__setattr__(self, "parameters", tuple((str(k), float(v)) for k, v in self.parameters))
         object.__setattr__(self, "platform_visuals", tuple(self.platform_visuals))
         if self.task is None:
-            from mobman.model.task import Position
+            from mobman.model.tasks import Position
 
             object.__setattr__(self, "task", Position())
 

@@ -12,15 +12,13 @@ from __future__ import annotations
 import math
 from typing import Callable
 
-import jax.numpy as jnp
-
 from mobman import checks
 from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platform import CarLike, DifferentialDrive
 from mobman.model.robot import MobileManipulator, Mount
-from mobman.model.task import Elevation, PlanarAngle, Pose, Position, stack
+from mobman.model.tasks import Elevation, PlanarAngle, Pose, Position, stack
 
 _UP = (0.0, 0.0, 1.0)
 _LIFT = (0.0, -1.0, 0.0)  # rotating about −y lifts the x axis: positive angle = elevation
@@ -250,7 +248,7 @@ PANDA_SPEEDS = (2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61)
 
 def panda_differential(v_max: float = 1.0, omega_max: float = 1.5, height: float = 0.4) -> MobileManipulator:
     """A Franka Panda (7 joints, flange 0.107 m along the last z axis) on a differential-drive base, its
-    base ``height`` m above the axle midpoint; task: the flange pose (:class:`~mobman.model.task.Pose`).
+    base ``height`` m above the axle midpoint; task: the flange pose (:class:`~mobman.model.tasks.Pose`).
 
     The base's speed limits (v_max = 1 m/s, ω_max = 1.5 rad/s) and the mount height are a choice; the
     arm's joint position and speed limits are Franka's.
@@ -322,8 +320,3 @@ def build(name: str, **params: float) -> MobileManipulator:
                 f"robot {key}: unknown parameter {p!r}; allowed: {', '.join(allowed) if allowed else 'none'}"
             )
     return factory(**params)
-
-
-def elbow_angle(q: jnp.ndarray) -> jnp.ndarray:
-    """Korayem's elbow angle β = π − θ2 (eq. 35) for ``korayem_planar`` (q = x, y, θ, θ1, θ2)."""
-    return jnp.pi - q[4:5]

@@ -25,7 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman.errors import ConvergenceError, InputError
-from mobman.model.task import Task
+from mobman.model.tasks import Task
 from mobman.planning.endpoint import PlanningSetting, endpoint_of_task, output_jacobian, variational_of_task
 
 ALGORITHMS = ("pinv", "extended", "adjoint")

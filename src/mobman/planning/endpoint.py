@@ -34,7 +34,7 @@ import numpy as np
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
 from mobman.model.spatial import matmul, matvec
-from mobman.model.task import Task
+from mobman.model.tasks import Task
 from mobman.planning import integrators
 from mobman.planning.basis import Basis, Fourier
 

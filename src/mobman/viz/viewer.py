@@ -41,7 +41,7 @@ from mobman.io import trajectories
 from mobman.model.platform import CarLike, DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import ROBOTS, build
-from mobman.model.task import Position
+from mobman.model.tasks import Position
 from mobman.model.visual import Visual
 
 LINK_COLOR = (255, 140, 26)

@@ -1,0 +1,35 @@
+"""The elevation of an arm frame about its own y axis (Bayle's ξ5 = q5 for the RRP arm, §5.2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import jax.numpy as jnp
+
+from mobman.model.tasks.orientation import OrientationTask
+
+
+@dataclass(frozen=True)
+class Elevation(OrientationTask):
+    """Elevation of an arm frame about its own y axis: minus the pitch of the ZXY Euler set,
+    atan2(R₂₀, R₂₂) (Bayle's ξ5 = q5 for the RRP arm, §5.2).
+
+    While the y axis is horizontal (an arm that lifts about it) it is the angle of the x axis above the
+    horizontal plane, continuous over the whole turn (−π, π]: ξ5 = q5 through the vertical and past it.
+    Undefined only where the y axis is vertical (R₂₀ = R₂₂ = 0).
+    """
+
+    kind = "elevation"
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return ("elevation",)
+
+    def angles(self, r):
+        return jnp.arctan2(r[2, 0], r[2, 2])[None]
+
+    def margin(self, r):
+        return jnp.hypot(r[2, 0], r[2, 2])
+
+    def symbolic_angles(self, r, kin):
+        return [kin.angle(r[2, 0], r[2, 2])]
