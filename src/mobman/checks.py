@@ -44,7 +44,8 @@ def vector3(value, name: str, owner: str) -> tuple[float, float, float]:
     values = tuple(np.ravel(np.asarray(value, dtype=object)))
     if len(values) != 3:
         raise ModelError(f"{owner}: {name} must be 3 numbers, got {value!r}")
-    return tuple(finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
+    x, y, z = (finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
+    return x, y, z
 
 
 def inertia_tensor(value, name: str, owner: str) -> tuple[float, ...]:

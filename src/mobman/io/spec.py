@@ -9,7 +9,7 @@ import math
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
 
@@ -80,6 +80,10 @@ def naming(path: Path | str) -> Iterator[None]:
         raise InputError(f"{path}: {exc}") from None
 
 
+@overload
+def table(data: dict, key: str, field: str, required: Literal[True] = True) -> dict: ...
+@overload
+def table(data: dict, key: str, field: str, required: bool) -> dict | None: ...
 def table(data: dict, key: str, field: str, required: bool = True) -> dict | None:
     """The sub-table ``data[key]`` (None when absent and not required)."""
     value = data.get(key)

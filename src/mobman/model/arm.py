@@ -166,8 +166,8 @@ class Arm:
 
     @property
     def velocity_limits(self) -> tuple[float, ...] | None:
-        limits = tuple(j.velocity_max for j in self.joints)
-        return None if any(v is None for v in limits) else limits
+        limits = tuple(j.velocity_max for j in self.joints if j.velocity_max is not None)
+        return limits if len(limits) == len(self.joints) else None
 
     @property
     def position_limits(self) -> tuple[tuple[float, float], ...]:
@@ -266,7 +266,7 @@ class Arm:
         return cls(tuple(joints), tool, _coupling(coupling), name)
 
 
-def _table(table, label: str) -> list[tuple[float, float, float, float]]:
+def _table(table, label: str) -> list[tuple[float, ...]]:
     rows = [tuple(float(v) for v in row) for row in table]
     if not rows or any(len(r) != 4 for r in rows):
         raise ModelError(f"{label} table: each row needs 4 numbers")

@@ -140,7 +140,7 @@ class DifferentialDrive(Platform):
         if self.wheel_speed_max is not None:
             v = self.wheel_radius * self.wheel_speed_max
             return (v, v / self.half_track)
-        if self.v_max is not None:
+        if self.v_max is not None and self.omega_max is not None:
             return (float(self.v_max), float(self.omega_max))
         return None
 
@@ -193,7 +193,9 @@ class CarLike(Platform):
 
     @property
     def velocity_limits(self) -> tuple[float, ...] | None:
-        return None if self.u1_max is None else (float(self.u1_max), float(self.u2_max))
+        if self.u1_max is None or self.u2_max is None:
+            return None
+        return (float(self.u1_max), float(self.u2_max))
 
     def S(self, q_p):
         ct, st = jnp.cos(q_p[2]), jnp.sin(q_p[2])

@@ -15,6 +15,7 @@ from typing import Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import ModelError
 
@@ -91,12 +92,12 @@ def matmul_expanded(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     return sum(terms[1:], terms[0])
 
 
-def matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:
+def matvec(a: jnp.ndarray | np.ndarray, v: jnp.ndarray | np.ndarray) -> jnp.ndarray:
     """a @ v for stacks of small matrices and vectors."""
     return jnp.sum(a * v[..., None, :], axis=-1)
 
 
-def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float]) -> jnp.ndarray | None:
+def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float] | np.ndarray) -> jnp.ndarray | None:
     """Σ_k w_k v_k for constant weights, written out over the nonzero ones (±1 without a product); None
     when every weight is zero. With the weights as Python scalars XLA emits no constant array and no
     product by zero: the structural zeros of a robot's fixed transforms cost nothing."""
@@ -106,7 +107,7 @@ def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float]) -> jnp.nda
     return None if not terms else sum(terms[1:], terms[0])
 
 
-def matvec_constant(a: jnp.ndarray, v: np.ndarray) -> jnp.ndarray:
+def matvec_constant(a: jnp.ndarray, v: npt.ArrayLike) -> jnp.ndarray:
     """a @ v for stacks of matrices a and a constant NumPy vector v (see :func:`combine`)."""
     out = combine(unstack(a), np.asarray(v, dtype=float))
     return jnp.zeros(a.shape[:-1], a.dtype) if out is None else out
