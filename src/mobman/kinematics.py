@@ -107,7 +107,7 @@ def validated_q(robot: MobileManipulator, q):
     return robot.validate_q(q)
 
 
-def _vector(x, name: str, size: int) -> np.ndarray:
+def _vector(x, name: str, size: int) -> np.ndarray | jax.Array:
     """A finite float array (..., size), or InputError naming ``name``."""
     if isinstance(x, jax.core.Tracer):
         return x

@@ -62,18 +62,19 @@ class Singularity(NamedTuple):
 def sample_configurations(robot: MobileManipulator, samples: int = 64, seed: int = 0) -> np.ndarray:
     """Seeded random configurations, shape (samples, n_q), drawn as described in the module docstring."""
     rng = np.random.default_rng(seed)
-    low, high = [], []
+    bounds = []
     kinds = ["revolute"] * robot.platform.n_q + [j.kind for a in robot.arms for j in a.joints]
     for kind, (lo, hi) in zip(kinds, robot.position_limits):
         span = math.pi if kind == "revolute" else 1.0
         if math.isfinite(lo) and math.isfinite(hi):
-            low.append(lo), high.append(hi)
+            bounds.append((lo, hi))
         elif math.isfinite(lo):
-            low.append(lo), high.append(lo + span)
+            bounds.append((lo, lo + span))
         elif math.isfinite(hi):
-            low.append(hi - span), high.append(hi)
+            bounds.append((hi - span, hi))
         else:
-            low.append(-span), high.append(span)
+            bounds.append((-span, span))
+    low, high = zip(*bounds)
     return rng.uniform(low, high, size=(samples, robot.n_q))
 
 

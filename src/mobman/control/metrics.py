@@ -81,7 +81,8 @@ class RunningSummary:
         self._after = [0, 0.0, -np.inf]  # samples with t ≥ transient, Σ e², max e
         self._final_error = 0.0
         self._sign: float | None = None  # sign of the last significant v
-        self._grains, self._v_initial = 0, None
+        self._grains = 0
+        self._v_initial: float | None = None
         self._tail: dict[
             str, np.ndarray
         ] = {}  # the last ee point, platform point and two η of the last piece

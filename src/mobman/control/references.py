@@ -221,7 +221,8 @@ class FunctionReference(Reference):
 
     @property
     def dim(self) -> int:
-        return int(self.size)
+        assert self.size is not None  # set in __post_init__
+        return self.size
 
     def _one(self, t):
         fn = lambda tt: jnp.atleast_1d(jnp.asarray(self.fn(tt), dtype=float))  # noqa: E731

@@ -28,6 +28,7 @@ from mobman.errors import InputError
 
 
 def _offsets(offsets) -> jnp.ndarray:
+    r: jax.Array | np.ndarray
     if isinstance(offsets, jax.core.Tracer):
         r = offsets
     else:
@@ -92,7 +93,7 @@ def grasp_matrix_rate(offsets, omega) -> jnp.ndarray:
     return w_dot
 
 
-def internal_force_basis(w: jnp.ndarray) -> jnp.ndarray:
+def internal_force_basis(w: jnp.ndarray | np.ndarray) -> jnp.ndarray:
     """Orthonormal basis of null(W), shape (..., mk, mk − m): the internal (squeeze) wrenches, which leave the
     object's net wrench unchanged. Assumes W of full row rank, as every W of :func:`grasp_matrix` is."""
     if not isinstance(w, jax.core.Tracer):

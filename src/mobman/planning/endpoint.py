@@ -297,13 +297,17 @@ def extended_jacobian(setting: PlanningSetting, extension: Task, z, q0) -> jnp.n
 
 def mobility_matrix(setting: PlanningSetting, z, q0) -> jnp.ndarray:
     """Mobility matrix 𝓜_{q0,T}(u) of the platform: the state reachability Gramian over all of L²[0, T]."""
-    return variational(setting, z, q0).mobility
+    mobility = variational(setting, z, q0).mobility
+    assert mobility is not None  # computed: with_mobility is True
+    return mobility
 
 
 @partial(jax.jit, static_argnums=(0, 3))
 def _dexterity_matrix(setting, z, q0, parametric):
     v = variational_of_task(setting, setting.output, z, q0, not parametric)
-    return v.J @ v.J.T if parametric else v.C @ v.mobility @ v.C.T + v.D @ v.D.T
+    if v.mobility is None:
+        return v.J @ v.J.T
+    return v.C @ v.mobility @ v.C.T + v.D @ v.D.T
 
 
 def dexterity_matrix(setting: PlanningSetting, z, q0, parametric: bool = False) -> jnp.ndarray:
@@ -317,7 +321,7 @@ def dexterity_matrix(setting: PlanningSetting, z, q0, parametric: bool = False) 
     return _batch(lambda s, zz, qq: _dexterity_matrix(s, zz, qq, parametric), setting, z, q0, "(r,r)")
 
 
-def dexterity(setting: PlanningSetting, z, q0, parametric: bool = False) -> np.ndarray:
+def dexterity(setting: PlanningSetting, z, q0, parametric: bool = False) -> float | np.ndarray:
     """Dexterity d = √det 𝒟 (eq. 12) (parametric=True: √det(J Jᵀ)); positive iff the configuration is regular.
 
     A float for one configuration, an array for a batch.

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import Figure
+from matplotlib.figure import Figure, FigureBase
 
 from mobman.errors import InputError
 from mobman.viz.paths import finish_plane
@@ -43,8 +43,9 @@ def plot_ellipses(
     title: str | None = None,
     ax: Axes | None = None,
     color: str = "tab:purple",
-) -> Figure:
-    """Draw the ellipses of ``jacobians`` (N, 2, k) centred at ``centers`` (N, 2), over an optional path (M, 2)."""
+) -> FigureBase:
+    """Draw the ellipses of ``jacobians`` (N, 2, k) centred at ``centers`` (N, 2), over an optional path (M, 2).
+    Returns a new Figure, or the figure holding ``ax`` when one is given."""
     centers = np.asarray(centers, dtype=float)
     outlines = ellipse_outline(jacobians, scale) + centers[:, None, :]
     fig = Figure(figsize=(6.4, 5.2)) if ax is None else ax.figure

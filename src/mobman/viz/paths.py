@@ -14,7 +14,7 @@ from typing import Mapping
 import jax
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import Figure
+from matplotlib.figure import Figure, FigureBase
 from matplotlib.patches import Polygon
 
 from mobman.model.robot import MobileManipulator
@@ -102,7 +102,9 @@ def draw_robot(
         )
         ax.add_patch(Polygon(wheel, closed=True, facecolor=color, edgecolor=color, alpha=alpha))
     tip = center + 0.6 * length * heading
-    ax.annotate("", xy=tip, xytext=center, arrowprops=dict(arrowstyle="->", color=color, alpha=alpha))
+    ax.annotate(
+        "", xy=tuple(tip), xytext=tuple(center), arrowprops=dict(arrowstyle="->", color=color, alpha=alpha)
+    )
     for key in (k_ for k_ in points if k_.startswith("arm")):
         chain = points[key][k]
         ax.plot(chain[:, 0], chain[:, 1], "-o", color="tab:blue", alpha=alpha, ms=3, lw=2)
@@ -123,13 +125,13 @@ def plot_paths(
     extra: Mapping[str, np.ndarray] | None = None,
     title: str | None = None,
     ax: Axes | None = None,
-) -> Figure:
+) -> FigureBase:
     """Top view: platform reference-point path, end-effector path and the robot at a few instants.
 
     q: configurations over time (N, n_q). ee: end-effector xy over time (N, 2) (default: the last arm
     point of the first arm). reference: the desired xy path (N, 2) to overlay. extra: further labelled
     xy paths (e.g. Korayem's base point F). instants: how many evenly spaced instants to draw, or their
-    indices.
+    indices. Returns a new Figure, or the figure holding ``ax`` when one is given.
     """
     points = frame_points(robot, q)
     fig = Figure(figsize=(6.4, 5.2)) if ax is None else ax.figure
