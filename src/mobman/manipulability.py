@@ -27,7 +27,7 @@ values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, ge
 from __future__ import annotations
 
 from functools import lru_cache, partial, reduce
-from typing import Literal
+from typing import Any, Literal
 
 import jax
 import jax.numpy as jnp
@@ -269,6 +269,7 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
         )
     jbar = jac @ K.S(robot, q)
     j_arm = jac[..., robot.arm_slice(0)]
+    ranks: dict[str, int | None]
     if isinstance(rank, (int, np.integer)):
         ranks = {"arm": min(int(rank), j_arm.shape[-1]), "system": int(rank)}
     else:
@@ -276,7 +277,7 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
             "arm": _resolve_rank(robot, task, "arm", rank),
             "system": _resolve_rank(robot, task, "system", rank),
         }
-    out = {"arm": measures(j_arm, ranks["arm"]), "system": measures(jbar, ranks["system"])}
+    out: dict[str, Any] = {"arm": measures(j_arm, ranks["arm"]), "system": measures(jbar, ranks["system"])}
     limits = robot.velocity_limits
     out["system_normalized"] = (
         None if limits is None else measures(jbar * np.asarray(limits), ranks["system"])

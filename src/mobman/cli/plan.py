@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import jax.numpy as jnp
 import numpy as np
@@ -188,7 +189,7 @@ def plan_command(
     )
     coarse = setting.jacobian_setting
     d0, d1 = dexterity(coarse, z0, q0), dexterity(coarse, result.z, q0)
-    report = {
+    report: dict[str, Any] = {
         "robot": robot_name,
         "algorithm": algorithm,
         "step": options.step,

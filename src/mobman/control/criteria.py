@@ -82,11 +82,10 @@ class Manipulability(Criterion):
             raise ModelError(f"Manipulability: measure {self.measure!r} not one of {', '.join(MEASURES)}")
         if self.which not in WHICH:
             raise ModelError(f"Manipulability: which {self.which!r} not one of {', '.join(WHICH)}")
-        if self.sign is None:
-            object.__setattr__(self, "sign", 1.0 if self.measure == "eccentricity" else -1.0)
-        elif self.sign not in (1.0, -1.0):
-            raise ModelError(f"Manipulability: sign must be +1 or −1, got {self.sign!r}")
-        object.__setattr__(self, "sign", float(self.sign))
+        sign = (1.0 if self.measure == "eccentricity" else -1.0) if self.sign is None else self.sign
+        if sign not in (1.0, -1.0):
+            raise ModelError(f"Manipulability: sign must be +1 or −1, got {sign!r}")
+        object.__setattr__(self, "sign", float(sign))
 
     def __call__(self, robot, q, task=None, xi_star=None):
         from mobman import manipulability as mp
@@ -96,6 +95,7 @@ class Manipulability(Criterion):
                 f"{robot.name}: the normalised measure needs velocity limits for every quasi-velocity"
             )
         jac = measure_jacobian(robot, q, task, self.which)
+        assert self.sign is not None  # set in __post_init__
         return self.sign * mp.measures(jac, rank=self.rank)[self.measure] ** self.power
 
 

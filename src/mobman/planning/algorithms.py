@@ -333,7 +333,8 @@ def check_sizes(setting: PlanningSetting, z0, q0, y_d) -> tuple[np.ndarray, np.n
             raise InputError(f"{name}: expected {size} values, got {value.shape[-1] if value.ndim else 1}")
         if not np.all(np.isfinite(value)):
             raise InputError(f"{name}: values must be finite")
-    return tuple(arrays)
+    z, q, y = arrays
+    return z, q, y
 
 
 def dexterity_gradient(setting: PlanningSetting, gain: float = 1.0) -> Callable:

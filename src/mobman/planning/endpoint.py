@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import NamedTuple
+from typing import NamedTuple, TypeVar
 
 import jax
 import jax.numpy as jnp
@@ -37,6 +37,8 @@ from mobman.model.spatial import matmul, matvec
 from mobman.model.task import Task
 from mobman.planning import integrators
 from mobman.planning.basis import Basis, Fourier
+
+_Array = TypeVar("_Array", jax.Array, np.ndarray)
 
 DEFAULT_METHOD = "dop853"
 DEFAULT_STEPS = 100
@@ -109,7 +111,7 @@ class PlanningSetting:
         """Dimension of the endogenous configuration z = (vec Λ, x)."""
         return self.n_controls * self.basis.size + self.n_joints
 
-    def split(self, z: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
+    def split(self, z: _Array) -> tuple[_Array, _Array]:
         """z → (Λ of shape (m, N), x)."""
         n = self.n_controls * self.basis.size
         return z[:n].reshape(self.n_controls, self.basis.size), z[n:]

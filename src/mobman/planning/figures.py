@@ -34,11 +34,13 @@ def plot_paths(setting: PlanningSetting, z, q0, y_d, title: str, path: Path) -> 
     return _save(fig, path)
 
 
-def plot_convergence(histories: Mapping[str, Sequence[float]], tol: float, title: str, path: Path) -> Path:
+def plot_convergence(
+    histories: Mapping[str, Sequence[float] | np.ndarray], tol: float, title: str, path: Path
+) -> Path:
     """log10 ‖e‖ versus iteration, one line per labelled run (figs. 5–7)."""
     fig, ax = plt.subplots(figsize=(6.5, 4))
-    for label, errors in histories.items():
-        errors = np.asarray(errors, float)
+    for label, history in histories.items():
+        errors = np.asarray(history, float)
         ax.plot(np.arange(errors.size), np.log10(np.maximum(errors, 1e-300)), label=label, lw=1.2)
     ax.axhline(np.log10(tol), color="k", ls=":", lw=1, label=f"tolerance {tol:g}")
     ax.set_xscale("symlog", linthresh=10)
