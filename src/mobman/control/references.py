@@ -18,7 +18,7 @@ Timing laws s(τ), τ ∈ [0, 1] (Biagiotti & Melchiorri, *Trajectory planning f
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Sequence
 
 import jax
 import jax.numpy as jnp
@@ -80,8 +80,8 @@ class Reference:
 class Line(Reference):
     """Straight segment from ``start`` to ``end`` in ``duration`` seconds with a timing law (any dimension)."""
 
-    start: tuple[float, ...]
-    end: tuple[float, ...]
+    start: Sequence[float] | np.ndarray
+    end: Sequence[float] | np.ndarray
     duration: float
     timing: str = "linear"
 
@@ -113,7 +113,7 @@ class Ellipse(Reference):
     (rad) adds a constant orientation component (e.g. the heading ξ3 of ``bayle_planar``'s full task).
     """
 
-    center: tuple[float, ...]
+    center: Sequence[float] | np.ndarray
     semi_axes: tuple[float, float]
     period: float
     phase: float = 0.0

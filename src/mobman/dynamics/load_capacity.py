@@ -257,12 +257,12 @@ def _result(names, t, tau0, tau1, speed, lower, upper, load, index, profile, mar
             f"outside its envelope [{lower[k, i]:.6g}, {upper[k, i]:.6g}] (speed {speed[k, i]:.4g}): "
             "the motion is infeasible for these actuators"
         )
-    i = int(np.argmin(load))
-    bounded = bool(np.isfinite(load[i]))
+    limiting = int(np.argmin(load))
+    bounded = bool(np.isfinite(load[limiting]))
     return LoadCapacity(
-        max_load=float(load[i]) if bounded else math.inf,
-        limiting_actuator=names[i] if bounded else None,
-        limiting_time=float(t[index[i]]) if bounded else None,
+        max_load=float(load[limiting]) if bounded else math.inf,
+        limiting_actuator=names[limiting] if bounded else None,
+        limiting_time=float(t[index[limiting]]) if bounded else None,
         names=tuple(names),
         t=t,
         tau0=np.asarray(tau0),

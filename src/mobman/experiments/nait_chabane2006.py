@@ -212,6 +212,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         chosen: dict[str, SimulationResult] = {}
         for strategy in STRATEGIES:
             result = simulate_strategy(robot, case, strategy, DURATION, dt)
+            runs: list[tuple[float | None, SimulationResult]]
             if STRATEGIES[strategy] is None:
                 runs = [(None, result)]
             else:

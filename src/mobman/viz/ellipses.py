@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import Figure, FigureBase
+from matplotlib.figure import Figure
 
 from mobman.errors import InputError
-from mobman.viz.paths import finish_plane
+from mobman.viz.paths import figure_of, finish_plane
 
 
 def ellipse_outline(jacobian, scale: float = 1.0, n: int = 73) -> np.ndarray:
@@ -43,12 +43,12 @@ def plot_ellipses(
     title: str | None = None,
     ax: Axes | None = None,
     color: str = "tab:purple",
-) -> FigureBase:
+) -> Figure:
     """Draw the ellipses of ``jacobians`` (N, 2, k) centred at ``centers`` (N, 2), over an optional path (M, 2).
     Returns a new Figure, or the figure holding ``ax`` when one is given."""
     centers = np.asarray(centers, dtype=float)
     outlines = ellipse_outline(jacobians, scale) + centers[:, None, :]
-    fig = Figure(figsize=(6.4, 5.2)) if ax is None else ax.figure
+    fig = Figure(figsize=(6.4, 5.2)) if ax is None else figure_of(ax)
     ax = fig.add_subplot(1, 1, 1) if ax is None else ax
     if path is not None:
         path = np.asarray(path)

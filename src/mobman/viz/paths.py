@@ -14,13 +14,18 @@ from typing import Mapping
 import jax
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.figure import Figure, FigureBase
+from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
 
 from mobman.model.robot import MobileManipulator
 
 
-@lru_cache(maxsize=32)
+def figure_of(ax: Axes) -> Figure:
+    """The top-level figure holding ``ax`` (also when ``ax`` is in a subfigure)."""
+    fig = ax.figure
+    return fig if isinstance(fig, Figure) else fig.figure
+
+
 def finish_plane(ax: Axes, title: str | None = None) -> None:
     """Equal-aspect x–y axes in metres with a grid, the legend and an optional title."""
     ax.set_aspect("equal", adjustable="datalim")
@@ -32,6 +37,7 @@ def finish_plane(ax: Axes, title: str | None = None) -> None:
         ax.set_title(title)
 
 
+@lru_cache(maxsize=32)
 def _frames_fn(robot: MobileManipulator):
     def one(q):
         f = robot.frames(q)
@@ -125,7 +131,7 @@ def plot_paths(
     extra: Mapping[str, np.ndarray] | None = None,
     title: str | None = None,
     ax: Axes | None = None,
-) -> FigureBase:
+) -> Figure:
     """Top view: platform reference-point path, end-effector path and the robot at a few instants.
 
     q: configurations over time (N, n_q). ee: end-effector xy over time (N, 2) (default: the last arm
@@ -134,7 +140,7 @@ def plot_paths(
     indices. Returns a new Figure, or the figure holding ``ax`` when one is given.
     """
     points = frame_points(robot, q)
-    fig = Figure(figsize=(6.4, 5.2)) if ax is None else ax.figure
+    fig = Figure(figsize=(6.4, 5.2)) if ax is None else figure_of(ax)
     ax = fig.add_subplot(1, 1, 1) if ax is None else ax
     ee = points["arm0"][:, -1, :2] if ee is None else np.asarray(ee)
     if reference is not None:

@@ -14,9 +14,9 @@ from mobman.errors import InputError
 def plot_timeseries(
     t,
     panels: Mapping[str, Mapping[str, np.ndarray]],
-    hlines: Mapping[str, Sequence[float]] | None = None,
+    hlines: Mapping[str, Sequence[float] | np.ndarray] | None = None,
     title: str | None = None,
-    events: Mapping[str, Sequence[float]] | None = None,
+    events: Mapping[str, Sequence[float] | np.ndarray] | None = None,
 ) -> Figure:
     """Stacked panels sharing the time axis.
 
@@ -47,9 +47,9 @@ def draw_curves(
     ax: Axes,
     t,
     curves: Mapping[str, np.ndarray],
-    hlines: Sequence[float] = (),
-    events: Mapping[str, Sequence[float]] | None = None,
-    unlabelled_events: Mapping[str, Sequence[float]] | None = None,
+    hlines: Sequence[float] | np.ndarray = (),
+    events: Mapping[str, Sequence[float] | np.ndarray] | None = None,
+    unlabelled_events: Mapping[str, Sequence[float] | np.ndarray] | None = None,
 ) -> None:
     """Curves (label → values (N,)) against t on one axes, dashed horizontal levels, and event times as
     labelled vertical lines (``unlabelled_events``: the same lines without legend entries)."""
