@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import typer
@@ -52,7 +53,7 @@ class CoordinateSums:
 
     groups: tuple[tuple[int, ...], ...]
 
-    def __call__(self, q):
+    def __call__(self, q: jax.Array) -> jax.Array:
         return jnp.stack([sum((q[i] for i in group[1:]), q[group[0]]) for group in self.groups])
 
 

@@ -32,6 +32,7 @@ from mobman.io.output import check_folder, results_folder, save_figure, write_te
 
 if TYPE_CHECKING:
     from mobman.control.simulation import SimulationResult
+    from mobman.control.spec import Spec
 
 PROGRESS_STEPS = 5000
 """Runs with more steps than this show a progress bar (computed in compiled chunks)."""
@@ -114,7 +115,7 @@ def _files(series: dict) -> dict:
 
 
 def stream(
-    spec, folder: Path | None, quiet: bool = True, chunk: int = STREAM_STEPS
+    spec: Spec, folder: Path | None, quiet: bool = True, chunk: int = STREAM_STEPS
 ) -> tuple[dict, SimulationResult]:
     """Run ``spec`` in pieces of ``chunk`` samples; with a ``folder``, append each time series to
     ``folder/NAME.npy``. Returns the run's metrics and the run's last piece."""

@@ -23,6 +23,7 @@ from typing import Callable, Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman import checks
 from mobman.control._tree import pytree
@@ -69,7 +70,7 @@ class Reference:
     def _one(self, t: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
         raise NotImplementedError
 
-    def __call__(self, t) -> tuple[jnp.ndarray, jnp.ndarray]:
+    def __call__(self, t: npt.ArrayLike) -> tuple[jnp.ndarray, jnp.ndarray]:
         """(ξ*(t), ξ̇*(t)), each of shape ``jnp.shape(t) + (dim,)``."""
         t = jnp.asarray(t, dtype=float)
         return jnp.vectorize(self._one, signature="()->(m),(m)")(t)

@@ -21,6 +21,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.figure import Figure
 
 from mobman import kinematics as K
@@ -106,7 +107,7 @@ def simulate_strategy(
     )
 
 
-def graining_times(t, v, threshold: float = V_THRESHOLD) -> np.ndarray:
+def graining_times(t: npt.ArrayLike, v: npt.ArrayLike, threshold: float = V_THRESHOLD) -> np.ndarray:
     """Times at which the platform speed v changes sign (samples with |v| ≤ threshold ignored): the times of
     the graining points counted by :func:`mobman.control.metrics.graining_points`."""
     t, v = np.asarray(t), np.asarray(v)

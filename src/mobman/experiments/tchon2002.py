@@ -71,7 +71,7 @@ def initial_configuration() -> np.ndarray:
     return z
 
 
-def options(algorithm: str, step, cap: int) -> Options:
+def options(algorithm: str, step: float | str, cap: int) -> Options:
     """γ = 1, tolerance 1e-12; every run carries the extension, so all share one compiled kernel."""
     return Options(algorithm, step, gamma=1.0, tol=TOL, max_iterations=cap, extension=EXTENSION)
 

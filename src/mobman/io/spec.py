@@ -7,14 +7,16 @@ import contextlib
 import difflib
 import math
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any, Literal, overload
+from typing import Any, Literal, TypeVar, overload
 
 import numpy as np
 
 from mobman.errors import InputError, MobmanError
 from mobman.io.numbers import MAX_MAGNITUDE
+
+T = TypeVar("T")
 
 MAX_FILE_BYTES = 16 * 2**20
 """Largest accepted robot or specification file."""
@@ -174,7 +176,7 @@ def number(entries: dict, key: str, field: str, default: Any = None, positive: b
     return float(value)
 
 
-def array(value, name: str) -> np.ndarray:
+def array(value: object, name: str) -> np.ndarray:
     """A finite float array from a TOML number or (nested, rectangular) list of numbers, each
     |value| ≤ :data:`~mobman.io.numbers.MAX_MAGNITUDE`."""
     pending = [value]
@@ -195,7 +197,7 @@ def array(value, name: str) -> np.ndarray:
         raise InputError(f"{name}: must be a rectangular array of numbers, got {_shown(value)}") from None
 
 
-def build(field: str, factory, /, **kwargs):
+def build(field: str, factory: Callable[..., T], /, **kwargs: Any) -> T:
     """Call a constructor; its ModelError becomes an InputError naming the spec field."""
     try:
         return factory(**kwargs)

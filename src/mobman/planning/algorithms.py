@@ -23,6 +23,7 @@ from typing import Callable, NamedTuple
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import ConvergenceError, InputError
 from mobman.model.task import Task
@@ -234,7 +235,9 @@ def solve_loop(
     return Plan(z, status, k, errors, thetas)
 
 
-def solve(setting: PlanningSetting, options: Options, z0, q0, y_d) -> Plan:
+def solve(
+    setting: PlanningSetting, options: Options, z0: npt.ArrayLike, q0: npt.ArrayLike, y_d: npt.ArrayLike
+) -> Plan:
     """Run one algorithm from z0 (the compiled kernel behind :func:`plan`; arrays in, :class:`Plan` out).
 
     The algorithm, the step mode, Δθ, γ and the tolerance are traced arguments: changing them does not
@@ -288,7 +291,12 @@ def to_result(setting: PlanningSetting, result: Plan) -> PlanResult:
 
 
 def plan(
-    setting: PlanningSetting, z0, q0, y_d, options: Options = Options(), raise_on_failure: bool = False
+    setting: PlanningSetting,
+    z0: npt.ArrayLike,
+    q0: npt.ArrayLike,
+    y_d: npt.ArrayLike,
+    options: Options = Options(),
+    raise_on_failure: bool = False,
 ) -> PlanResult:
     """Solve K_{q0,T}(z) = y_d (eq. 4) from z0; non-convergence is a result (status) unless raise_on_failure.
 
@@ -314,7 +322,9 @@ def plan(
     return result
 
 
-def check_sizes(setting: PlanningSetting, z0, q0, y_d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def check_sizes(
+    setting: PlanningSetting, z0: npt.ArrayLike, q0: npt.ArrayLike, y_d: npt.ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """z0, q0, y_d as float arrays with the setting's sizes on their last axis and finite values (InputError
     naming the argument otherwise)."""
     checks = (

@@ -10,12 +10,20 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import numpy.typing as npt
 
 from mobman.io.output import save_figure  # noqa: E402
 from mobman.planning.endpoint import PlanningSetting, trajectory  # noqa: E402
 
 
-def plot_paths(setting: PlanningSetting, z, q0, y_d, title: str, path: Path) -> Path:
+def plot_paths(
+    setting: PlanningSetting,
+    z: npt.ArrayLike,
+    q0: npt.ArrayLike,
+    y_d: Sequence[float] | np.ndarray,
+    title: str,
+    path: Path,
+) -> Path:
     """Platform path (q1, q2) and end-effector path (y1, y2) in the plane for the configuration z (figs.
     2–4)."""
     _, q_p, y = trajectory(setting, z, q0)

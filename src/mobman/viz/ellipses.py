@@ -9,6 +9,7 @@ U diag(σ) (cos t, sin t). A singular J gives a flat ellipse (a segment).
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
@@ -16,7 +17,7 @@ from mobman.errors import InputError
 from mobman.viz.paths import figure_of, finish_plane
 
 
-def ellipse_outline(jacobian, scale: float = 1.0, n: int = 73) -> np.ndarray:
+def ellipse_outline(jacobian: npt.ArrayLike, scale: float = 1.0, n: int = 73) -> np.ndarray:
     """Boundary points (..., n, 2) of the velocity ellipses of 2 × k Jacobians (..., 2, k), batched.
 
     ``scale`` multiplies the semi-axes (a drawing scale: metres of figure per unit of velocity).
@@ -35,10 +36,10 @@ def ellipse_outline(jacobian, scale: float = 1.0, n: int = 73) -> np.ndarray:
 
 
 def plot_ellipses(
-    centers,
-    jacobians,
+    centers: npt.ArrayLike,
+    jacobians: npt.ArrayLike,
     scale: float = 1.0,
-    path=None,
+    path: npt.ArrayLike | None = None,
     labels: str = "ellipse",
     title: str | None = None,
     ax: Axes | None = None,

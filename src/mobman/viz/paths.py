@@ -13,6 +13,7 @@ from typing import Mapping
 
 import jax
 import numpy as np
+import numpy.typing as npt
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
@@ -46,7 +47,7 @@ def _frames_fn(robot: MobileManipulator):
     return jax.jit(jax.vmap(one))
 
 
-def frame_points(robot: MobileManipulator, q) -> dict[str, np.ndarray]:
+def frame_points(robot: MobileManipulator, q: npt.ArrayLike) -> dict[str, np.ndarray]:
     """World points of configurations ``q`` (N, n_q), batched in one compiled call.
 
     Returns ``platform`` (N, 3) origin, ``heading`` (N, 2) unit x axis of the platform, and per arm
@@ -124,10 +125,10 @@ def _instants(n: int, instants: int | tuple[int, ...]) -> np.ndarray:
 
 def plot_paths(
     robot: MobileManipulator,
-    q,
-    ee=None,
+    q: npt.ArrayLike,
+    ee: npt.ArrayLike | None = None,
     instants: int | tuple[int, ...] = 5,
-    reference=None,
+    reference: npt.ArrayLike | None = None,
     extra: Mapping[str, np.ndarray] | None = None,
     title: str | None = None,
     ax: Axes | None = None,
@@ -165,7 +166,7 @@ def plot_paths(
 
 
 def plot_paths_3d(
-    robot: MobileManipulator, q, instants: int | tuple[int, ...] = 4, title: str | None = None
+    robot: MobileManipulator, q: npt.ArrayLike, instants: int | tuple[int, ...] = 4, title: str | None = None
 ) -> Figure:
     """3-D view: platform path on the floor, end-effector path, the arm and platform outline at instants."""
     points = frame_points(robot, q)

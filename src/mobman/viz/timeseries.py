@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Mapping, Sequence
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
@@ -12,7 +13,7 @@ from mobman.errors import InputError
 
 
 def plot_timeseries(
-    t,
+    t: npt.ArrayLike,
     panels: Mapping[str, Mapping[str, np.ndarray]],
     hlines: Mapping[str, Sequence[float] | np.ndarray] | None = None,
     title: str | None = None,
@@ -45,7 +46,7 @@ def plot_timeseries(
 
 def draw_curves(
     ax: Axes,
-    t,
+    t: npt.ArrayLike,
     curves: Mapping[str, np.ndarray],
     hlines: Sequence[float] | np.ndarray = (),
     events: Mapping[str, Sequence[float] | np.ndarray] | None = None,
