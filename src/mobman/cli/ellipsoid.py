@@ -18,8 +18,6 @@ makes it an error); ``--json`` gives the same as one JSON object.
 
 from __future__ import annotations
 
-from typing import cast
-
 import numpy as np
 import typer
 from rich.console import Console
@@ -32,7 +30,6 @@ from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.dynamics.ellipsoids import (
     GRASPS,
     Ellipsoid,
-    Grasp,
     Method,
     dynamic_ellipsoid,
     grasp_task,
@@ -44,7 +41,7 @@ from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
 
 KINDS = ("kinematic", "dynamic")
-METHODS = ("exact", "paper")
+METHODS: tuple[Method, ...] = ("exact", "paper")
 
 
 def ellipsoid_report(e: Ellipsoid) -> dict:
@@ -103,7 +100,6 @@ def ellipsoid_command(
         raise InputError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if grasp not in GRASPS:
         raise InputError(f"--grasp must be one of {', '.join(GRASPS)}, got {grasp!r}")
-    grasp_kind, method_kind = cast(Grasp, grasp), cast(Method, method)  # checked above
     robot = load_robot(robot_name, param)
     configuration = parse_vector(q, "--q", robot.n_q)
     robot.validate_q(configuration)
@@ -113,10 +109,10 @@ def ellipsoid_command(
             "--eta applies to --kind dynamic only (the kinematic ellipsoid has no velocity terms)"
         )
     velocities = None if eta is None else parse_vector(eta, "--eta", robot.n_eta)
-    task = grasp_task(robot, grasp_kind) if held else robot.task
+    task = grasp_task(robot, grasp) if held else robot.task
     representation = bool(K.representation_singular(robot, configuration, task))
     if kind == "kinematic":
-        e = kinematic_ellipsoid(robot, configuration, held=held, grasp=grasp_kind)
+        e = kinematic_ellipsoid(robot, configuration, held=held, grasp=grasp)
     else:
         model, limits = load_dynamics(robot_name, robot, "--kind dynamic")
         obj = None
@@ -126,7 +122,7 @@ def ellipsoid_command(
                 (0.0, 0.0, _positive(object_inertia, "--object-inertia")),
             )
         e = dynamic_ellipsoid(
-            model, configuration, limits, eta=velocities, obj=obj, method=method_kind, grasp=grasp_kind
+            model, configuration, limits, eta=velocities, obj=obj, method=method, grasp=grasp
         )
     result = {
         "robot": robot.name,

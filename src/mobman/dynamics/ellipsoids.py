@@ -45,11 +45,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import partial
-from typing import Literal, Sequence
+from typing import TYPE_CHECKING, Literal, Sequence
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman import kinematics
 from mobman.dynamics.grasp import HeldObject, grasp_matrix, grasp_matrix_rate
@@ -58,9 +59,12 @@ from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import PlanarAngle, Position, Task, stack
 
+if TYPE_CHECKING:
+    from mobman.dynamics.inertia import DynamicModel
+
 Method = Literal["paper", "exact"]
 Grasp = Literal["rigid", "point"]
-GRASPS = ("rigid", "point")
+GRASPS: tuple[Grasp, ...] = ("rigid", "point")
 
 
 # --- the ellipsoid as a result ---------------------------------------------------------------------
@@ -129,12 +133,12 @@ class Ellipsoid:
         """
         keep = list(keep)
         fixed = [i for i in range(self.center.shape[-1]) if i not in keep]
-        at = np.zeros(len(fixed)) if at is None else np.asarray(at, dtype=float)
+        values = np.zeros(len(fixed)) if at is None else np.asarray(at, dtype=float)
         sigma = self.shape_matrix
         s_tt = sigma[..., keep, :][..., :, keep]
         s_ts = sigma[..., keep, :][..., :, fixed]
         s_ss = sigma[..., fixed, :][..., :, fixed]
-        d = at - self.center[..., fixed]
+        d = values - self.center[..., fixed]
         flat = "Ellipsoid.section: the block Σ_ss of the fixed coordinates is singular (a flat ellipsoid)"
         gain = np.swapaxes(_solve(s_ss, np.swapaxes(s_ts, -1, -2), flat), -1, -2)  # Σ_ts Σ_ss⁻¹
         center = self.center[..., keep] + np.einsum("...ij,...j->...i", gain, d)
@@ -147,7 +151,7 @@ class Ellipsoid:
             center, root * scale, tuple(self.names[i] for i in keep), np.logical_and(self.feasible, rho2 >= 0)
         )
 
-    def contains(self, x, tol: float = 1e-9) -> np.ndarray:
+    def contains(self, x: npt.ArrayLike, tol: float = 1e-9) -> np.ndarray:
         """Whether points x (..., m) lie in E (Σ invertible), up to ``tol`` on the quadratic form."""
         d = np.asarray(x, dtype=float) - self.center
         flat = "Ellipsoid.contains: the shape matrix Σ is singular (a flat ellipsoid)"
@@ -227,13 +231,13 @@ def point_grasp_matrix(n_arms: int) -> np.ndarray:
     return np.hstack([np.eye(2)] * n_arms)
 
 
-def _tool_points(robot: MobileManipulator, q: jnp.ndarray) -> jnp.ndarray:
+def _tool_points(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     return jnp.stack(
         [kinematics.forward(robot, q, Position("xy", arm=i)) for i in range(len(robot.arms))], axis=-2
     )
 
 
-def grasp_offsets(robot: MobileManipulator, q) -> jnp.ndarray:
+def grasp_offsets(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     """r_i: each tool point minus the object's centre of mass (the centroid of the tool points), (..., k, 2)."""
     points = _tool_points(robot, q)
     return points - jnp.mean(points, axis=-2, keepdims=True)
@@ -288,10 +292,10 @@ def _kinematic(robot: MobileManipulator, task: Task, held: str | None, q, u_max)
 
 def kinematic_ellipsoid(
     robot: MobileManipulator,
-    q,
+    q: npt.ArrayLike,
     *,
     held: bool = False,
-    platform_scale=1.0,
+    platform_scale: float | npt.ArrayLike = 1.0,
     task: Task | None = None,
     grasp: Grasp = "rigid",
 ) -> Ellipsoid:
@@ -472,10 +476,10 @@ def _exact(terms: _Terms, tau_max: np.ndarray):
 
 
 def dynamic_terms(
-    model,
-    q,
+    model: DynamicModel,
+    q: npt.ArrayLike,
     *,
-    eta=None,
+    eta: npt.ArrayLike | None = None,
     obj: HeldObject | None = None,
     task: Task | None = None,
     interaction: bool = True,
@@ -521,13 +525,13 @@ def dynamic_terms(
 
 
 def dynamic_ellipsoid(
-    model,
-    q,
-    torque_limits: Sequence[float],
+    model: DynamicModel,
+    q: npt.ArrayLike,
+    torque_limits: Sequence[float] | np.ndarray,
     *,
-    eta=None,
+    eta: npt.ArrayLike | None = None,
     obj: HeldObject | None = None,
-    platform_scale=1.0,
+    platform_scale: float | npt.ArrayLike = 1.0,
     method: Method = "paper",
     interaction: bool = True,
     platform_fixed: bool = False,
@@ -572,6 +576,7 @@ def dynamic_ellipsoid(
     if platform_fixed:
         tau_max = tau_max[..., ~is_platform]
     center, matrix, feasible = (_paper if method == "paper" else _exact)(terms, tau_max)
+    names: tuple[str, ...]
     if obj is not None:
         names = POINT_NAMES if grasp == "point" else OBJECT_NAMES
     else:

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
@@ -188,7 +189,7 @@ class MobileManipulator:
             lim for a in self.arms for lim in a.position_limits
         )
 
-    def limit_violations(self, q) -> np.ndarray:
+    def limit_violations(self, q: npt.ArrayLike) -> np.ndarray:
         """Which coordinates of configurations q (..., n_q) lie outside :attr:`position_limits` (a joint's
         [lower, upper]), boolean (..., n_q); ``.any(-1)`` flags each configuration."""
         q = self.validate_q(q)
@@ -214,7 +215,7 @@ class MobileManipulator:
         arms = self.arms[:arm] + (replace(chain, joints=joints),) + self.arms[arm + 1 :]
         return replace(self, arms=arms)
 
-    def validate_q(self, q) -> np.ndarray:
+    def validate_q(self, q: npt.ArrayLike) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values. Returns float64 NumPy."""
         try:
             arr = np.asarray(q, dtype=float)
@@ -296,7 +297,7 @@ class MobileManipulator:
         arm: int | None,
         upto: int,
         coupled: bool = True,
-    ):
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
         """Linear (3 × n_q) and angular (3 × n_q) velocity Jacobians of a point rigidly attached to
         frame ``upto`` of arm ``arm`` (only joints ≤ upto move it; ``arm=None``: attached to the platform).
 

@@ -193,7 +193,16 @@ def _line_search(setting, z, q0, y_d, e, J, d):
 
 @partial(jax.jit, static_argnums=(0, 1))
 def solve_loop(
-    setting: PlanningSetting, kernel: Kernel, z0, q0, y_d, algorithm, adaptive, step, gamma, tol
+    setting: PlanningSetting,
+    kernel: Kernel,
+    z0: jax.Array,
+    q0: jax.Array,
+    y_d: jax.Array,
+    algorithm: jax.Array,
+    adaptive: jax.Array,
+    step: jax.Array,
+    gamma: jax.Array,
+    tol: jax.Array,
 ) -> Plan:
     """The compiled loop (see :meth:`Options.arguments` for the traced arguments)."""
     size = kernel.max_iterations + 1
