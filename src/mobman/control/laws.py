@@ -51,6 +51,7 @@ from dataclasses import dataclass, field
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.control._tree import pytree
 from mobman.control.criteria import Criterion
@@ -73,8 +74,9 @@ def _gain(value, name: str, owner: str, allow_zero: bool = False) -> np.ndarray:
     return arr
 
 
-def apply_gain(gain: jnp.ndarray, e: jnp.ndarray, name: str = "gain") -> jnp.ndarray:
+def apply_gain(gain: npt.ArrayLike, e: jnp.ndarray, name: str = "gain") -> jnp.ndarray:
     """W e for a scalar, diagonal (vector) or full (matrix) gain."""
+    gain = jnp.asarray(gain)
     if gain.ndim == 2:
         if gain.shape[1] != e.shape[-1]:
             raise ModelError(
@@ -144,7 +146,11 @@ class _Law:
 
     def _scale(self, robot) -> np.ndarray:
         """R: the velocity limits when normalised, ones otherwise."""
-        return self._limits(robot) if self.normalized else np.ones(robot.n_eta)
+        if not self.normalized:
+            return np.ones(robot.n_eta)
+        limits = self._limits(robot)
+        assert limits is not None  # _limits raises when normalized without limits
+        return limits
 
     def _finish(self, robot, eta: jnp.ndarray, info: dict) -> tuple[jnp.ndarray, dict]:
         """Saturation and the common info entries."""
@@ -168,14 +174,14 @@ class BaylePseudoInverse(_Law):
     ``W``: m-order positive-definite error gain (scalar, diagonal vector or matrix), 1/s; ``k`` ≥ 0.
     """
 
-    W: np.ndarray = 1.0
-    k: np.ndarray = 0.0
+    W: npt.ArrayLike = 1.0
+    k: float | np.ndarray = 0.0
     criterion: Criterion | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "W", _gain(self.W, "W", "BaylePseudoInverse"))
         object.__setattr__(self, "k", _gain(self.k, "k", "BaylePseudoInverse", allow_zero=True))
-        if self.k.ndim:
+        if np.ndim(self.k):
             raise ModelError(f"BaylePseudoInverse: k must be a scalar ≥ 0, got {self.k!r}")
         self._check_options("BaylePseudoInverse")
 
@@ -199,9 +205,9 @@ class NaitChabane(_Law):
     ``W``: δ-order positive-definite null-space weighting (scalar, vector or matrix).
     """
 
-    W: np.ndarray = 1.0
+    W: npt.ArrayLike = 1.0
     criterion: Criterion | None = None
-    feedback: np.ndarray | None = None
+    feedback: npt.ArrayLike | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "W", _gain(self.W, "W", "NaitChabane"))
@@ -249,7 +255,7 @@ class AugmentedJacobian(_Law):
     """
 
     extra: Task | None = None
-    feedback: np.ndarray | None = None
+    feedback: npt.ArrayLike | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.extra, Task):
@@ -260,16 +266,18 @@ class AugmentedJacobian(_Law):
 
     def __call__(self, robot, task: Task, q, t, xi_star, xi_star_dot):
         task = robot.task if task is None else task
-        if task.dim + self.extra.dim != robot.n_eta:
+        extra = self.extra
+        assert extra is not None  # checked in __post_init__
+        if task.dim + extra.dim != robot.n_eta:
             raise ModelError(
-                f"AugmentedJacobian: task ({task.dim}) + extra ({self.extra.dim}) rows must equal "
+                f"AugmentedJacobian: task ({task.dim}) + extra ({extra.dim}) rows must equal "
                 f"n_eta = {robot.n_eta} of {robot.name}"
             )
         frames = robot.frames(q)
-        xi = jnp.concatenate([task.value(robot, q, frames), self.extra.value(robot, q, frames)])
-        jac = jnp.concatenate([task.jacobian(robot, q, frames), self.extra.jacobian(robot, q, frames)])
+        xi = jnp.concatenate([task.value(robot, q, frames), extra.value(robot, q, frames)])
+        jac = jnp.concatenate([task.jacobian(robot, q, frames), extra.jacobian(robot, q, frames)])
         scale = self._scale(robot)
-        e = stack(task, self.extra).error(xi_star, xi)
+        e = stack(task, extra).error(xi_star, xi)
         rhs = xi_star_dot if self.feedback is None else xi_star_dot + apply_gain(self.feedback, e, "feedback")
         jt = robot.apply_S(jac, q) * scale
         inverse, lam2, sigma_min = damped_inverse(jt, self.damping, self.damping_threshold)

@@ -90,6 +90,7 @@ def simulate_strategy(
 ) -> SimulationResult:
     """One strategy in one case: a single run for ``none``, a batch over GAINS (one compiled call) otherwise."""
     which = STRATEGIES[strategy]
+    law: laws.NaitChabane | list[laws.NaitChabane]
     if which is None:
         law = laws.NaitChabane(W=1.0)  # no criterion: u = J̄⁺ Ẋd
     else:
