@@ -29,7 +29,7 @@ import itertools
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import sympy as sp
@@ -254,7 +254,7 @@ class SymbolicRobot:
             r = self.link_poses(task.arm)[task.link][0]
             return [_angle(r[2, 0], r[2, 2])]
         if isinstance(task, FunctionTask):
-            q = np.empty(len(self.q), dtype=object)
+            q: Any = np.empty(len(self.q), dtype=object)  # SymPy symbols through the jax.numpy function
             q[:] = self.q
             try:
                 out = np.asarray(task.fn(q), dtype=object).reshape(-1)
@@ -353,13 +353,13 @@ def trig_normal(expr: sp.Expr, q: Sequence[sp.Symbol]) -> sp.Expr:
 @lru_cache(maxsize=4096)
 def _trig_normal(expr: sp.Expr, q: tuple[sp.Symbol, ...]) -> sp.Expr:
     """Canonical form of ``expr`` (cached; see :func:`trig_normal`)."""
-    q = [v for v in q if expr.has(v)]
-    if not q:
+    present = [v for v in q if expr.has(v)]
+    if not present:
         return sp.factor(sp.together(expr))
-    s = sp.symbols(f"_s0:{len(q)}", real=True)
-    c = sp.symbols(f"_c0:{len(q)}", real=True)
+    s = sp.symbols(f"_s0:{len(present)}", real=True)
+    c = sp.symbols(f"_c0:{len(present)}", real=True)
     forward = {}
-    for v, si, ci in zip(q, s, c):
+    for v, si, ci in zip(present, s, c):
         forward[sp.sin(v)] = si
         forward[sp.cos(v)] = ci
     numerator, denominator = sp.fraction(sp.together(sp.expand_trig(expr).subs(forward)))

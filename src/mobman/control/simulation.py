@@ -95,7 +95,7 @@ class SimulationResult:
 
 def controlled_task(law, task: Task) -> Task:
     """The task whose error the law regulates: ``task``, stacked with ``law.extra`` for the augmented law."""
-    return stack(task, law.extra) if isinstance(law, AugmentedJacobian) else task
+    return stack(task, law.extra) if isinstance(law, AugmentedJacobian) and law.extra is not None else task
 
 
 def _unicycle_exp(q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
@@ -122,7 +122,7 @@ _RK4_OUT = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 def _step(robot, integrator, control, q, t, h):
     """One integration step: (q_next, q_mid or None, η at t, the law's info at t)."""
     lie = integrator == "lie"
-    unravel = []  # set while the stage is traced: how to split a sample back into (η, info)
+    unravel: list[Callable] = []  # set while the stage is traced: how to split a sample back into (η, info)
 
     def stage(carry, row):
         x, k = carry

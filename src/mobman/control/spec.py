@@ -226,10 +226,7 @@ def _reference(data: dict) -> references.Reference:
     return fields.kind(table, f, kinds)(table)
 
 
-def _criterion(table: dict | None, field: str) -> criteria.Criterion | None:
-    if table is None:
-        return None
-
+def _criterion(table: dict, field: str) -> criteria.Criterion:
     def manipulability(t):
         fields.keys(t, field, ("kind", "measure", "which", "sign", "power"))
         return fields.build(
@@ -263,7 +260,8 @@ def _criterion(table: dict | None, field: str) -> criteria.Criterion | None:
 def _law(data: dict):
     table = fields.table(data, "law", "law")
     gains = fields.table(data, "gains", "gains", required=False) or {}
-    criterion = _criterion(fields.table(data, "criterion", "criterion", required=False), "criterion")
+    criterion_table = fields.table(data, "criterion", "criterion", required=False)
+    criterion = None if criterion_table is None else _criterion(criterion_table, "criterion")
     options = {k: table[k] for k in ("damping", "damping_threshold", "normalized", "saturate") if k in table}
     for key in ("damping", "damping_threshold"):
         if key in options:

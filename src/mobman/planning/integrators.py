@@ -169,9 +169,9 @@ def step(method: str, rhs: Callable, state, inputs, h: float):
     The stages run in a ``lax.fori_loop`` over a buffer of slopes K (row i of A only reaches the slopes
     already computed), so ``rhs`` is traced once: compilation time does not grow with the number of stages.
     """
-    A, b = _matrices(method)
-    stages = b.size
-    A, b = jnp.asarray(A), jnp.asarray(b)
+    A_np, b_np = _matrices(method)
+    stages = b_np.size
+    A, b = jnp.asarray(A_np), jnp.asarray(b_np)
     slopes = jax.tree.map(lambda a: jnp.zeros((stages,) + jnp.shape(a), jnp.result_type(a)), state)
 
     def stage(i, slopes):
