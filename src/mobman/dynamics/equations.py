@@ -34,6 +34,7 @@ from mobman import kinematics
 from mobman.batching import across_cores, blocked
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
+from mobman.model.inertial import Wheel
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import Frames
 
@@ -44,7 +45,7 @@ class Body(NamedTuple):
     whether it is the payload."""
 
     mass: float
-    point: jnp.ndarray
+    point: jnp.ndarray | np.ndarray
     rotation: jnp.ndarray
     inertia: np.ndarray
     arm: int | None
@@ -79,7 +80,8 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
         rs, ps = frames.links[i]
         for j, joint in enumerate(arm.joints):
             inertial = joint.inertial
-            point = ps[j] + rs[j] @ np.asarray(inertial.com)
+            assert inertial is not None  # DynamicModel checks that every joint has one
+            point: jnp.ndarray | np.ndarray = ps[j] + rs[j] @ np.asarray(inertial.com)
             result.append(Body(inertial.mass, point, rs[j], inertial.inertia_matrix, i, j))
     payload = model.payload
     if payload is not None:
@@ -106,7 +108,9 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
 def wheel_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
     """Rows a_r, a_l (2 × n_q) with φ̇_r,l = a · q̇ = (ẋ cos θ + ẏ sin θ ± b θ̇)/r (Yamamoto eq. 4–6)."""
     robot = model.robot
-    b, r = robot.platform.half_track, robot.platform.wheel_radius
+    platform = robot.platform
+    assert isinstance(platform, DifferentialDrive)  # only a differential drive has wheel rows
+    b, r = platform.half_track, platform.wheel_radius
     c, s = jnp.cos(q[2]), jnp.sin(q[2])
     rows = [
         jnp.concatenate(
@@ -154,8 +158,9 @@ def body_jacobians(model: DynamicModel, q: jnp.ndarray, payload_mass: float | No
     return BodyJacobians(masses, jnp.concatenate(j_v), jnp.concatenate(j_w), inertia_world)
 
 
-def _has_wheels(model: DynamicModel) -> bool:
-    return isinstance(model.robot.platform, DifferentialDrive) and model.wheel is not None
+def _spinning_wheel(model: DynamicModel) -> Wheel | None:
+    """The wheel whose spin adds kinetic energy (a differential drive's), or None."""
+    return model.wheel if isinstance(model.robot.platform, DifferentialDrive) else None
 
 
 def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
@@ -164,9 +169,10 @@ def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | N
     m = jnp.einsum("b,bin,bim->nm", jac.masses, jac.linear, jac.linear) + jnp.einsum(
         "bin,bij,bjm->nm", jac.angular, jac.inertia, jac.angular
     )
-    if _has_wheels(model):
+    spin = _spinning_wheel(model)
+    if spin is not None:
         a = wheel_rows(model, q)
-        m = m + model.wheel.I_w * a.T @ a
+        m = m + spin.I_w * a.T @ a
     return m
 
 
@@ -193,11 +199,12 @@ def body_forces_one(model: DynamicModel, q, q_dot, q_ddot, payload_mass: float |
         "bin,bi->bn", jac.angular, moment
     )
     wheel = jnp.zeros_like(q)
-    if _has_wheels(model):
+    spin = _spinning_wheel(model)
+    if spin is not None:
         # T_w = ½ I_w |A(q) q̇|²: Lagrange's d/dt ∂T/∂q̇ − ∂T/∂q on the wheel spins (autodiff of two rows)
         def momentum(x, v):
             a_rows = wheel_rows(model, x)
-            return model.wheel.I_w * a_rows.T @ (a_rows @ v)
+            return spin.I_w * a_rows.T @ (a_rows @ v)
 
         wheel = jax.jvp(momentum, (q, q_dot), (q_dot, q_ddot))[1] - jax.grad(
             lambda x: 0.5 * q_dot @ momentum(x, q_dot)
@@ -216,10 +223,11 @@ def potential_energy_one(
     model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None
 ) -> jnp.ndarray:
     """V(q) = −Σ m gravityᵀ p_com for one configuration."""
-    gravity = np.asarray(model.gravity)
-    return -sum(
+    gravity = jnp.asarray(model.gravity)
+    terms = [
         body.mass * (gravity @ body.point) for body in bodies(model, model.robot.frames(q), payload_mass)
-    )
+    ]
+    return -sum(terms[1:], terms[0])  # the platform body is always there
 
 
 def gravity_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
