@@ -185,24 +185,32 @@ def actuator_map(robot: MobileManipulator, wheels: bool) -> np.ndarray:
     """T (n_eta × n_eta) with η = T u: the wheel matrix on the platform block when ``wheels``, else I."""
     t = np.eye(robot.n_eta)
     if wheels:
-        t[:2, :2] = robot.platform.wheel_matrix()
+        platform = robot.platform
+        assert isinstance(platform, DifferentialDrive)  # only a differential drive has wheels
+        t[:2, :2] = platform.wheel_matrix()
     return t
 
 
 def actuator_velocity_limits(robot: MobileManipulator, platform_scale: float = 1.0) -> np.ndarray:
     """u_max: wheel speed limits (or the platform's η limits), then joint rate limits; the platform part times
     ``platform_scale``. ModelError when a limit is missing."""
-    wheels = uses_wheels(robot)
-    if wheels:
-        platform = (robot.platform.wheel_speed_max,) * 2
+    platform = robot.platform
+    parts: list[tuple[float, ...] | None]
+    if (
+        uses_wheels(robot)
+        and isinstance(platform, DifferentialDrive)
+        and platform.wheel_speed_max is not None
+    ):
+        parts = [(platform.wheel_speed_max,) * 2]
     else:
-        platform = robot.platform.velocity_limits
-    arms = [a.velocity_limits for a in robot.arms]
-    if platform is None or any(a is None for a in arms):
+        parts = [platform.velocity_limits]
+    parts += [a.velocity_limits for a in robot.arms]
+    known = [v for v in parts if v is not None]
+    if len(known) < len(parts):
         raise ModelError(
             f"{robot.name}: the kinematic ellipsoid needs velocity limits of the platform and of every joint"
         )
-    limits = np.array(tuple(platform) + tuple(v for a in arms for v in a), dtype=float)
+    limits = np.array([v for part in known for v in part], dtype=float)
     limits[: robot.platform.n_eta] *= platform_scale
     return limits
 
