@@ -372,12 +372,12 @@ def _trig_normal(expr: sp.Expr, q: tuple[sp.Symbol, ...]) -> sp.Expr:
         if poly == 0:
             return poly
         forms = []
-        for order in (gens, (*c, *s, *gens[2 * len(q) :])):
+        for order in (gens, (*c, *s, *gens[2 * len(present) :])):
             _, remainder = sp.reduced(poly, ideal, *order, order="lex")
             forms.append(sp.factor(remainder))
         return min(forms, key=sp.count_ops)
 
-    back = {si: sp.sin(v) for v, si in zip(q, s)} | {ci: sp.cos(v) for v, ci in zip(q, c)}
+    back = {si: sp.sin(v) for v, si in zip(present, s)} | {ci: sp.cos(v) for v, ci in zip(present, c)}
     return (reduce(numerator) / reduce(denominator)).subs(back)
 
 
