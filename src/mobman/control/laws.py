@@ -99,7 +99,9 @@ def _small_inverse(a: jnp.ndarray) -> jnp.ndarray:
     return jnp.linalg.inv(a)
 
 
-def damped_inverse(a: jnp.ndarray, damping: float, threshold: float):
+def damped_inverse(
+    a: jnp.ndarray, damping: float, threshold: float
+) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]:
     """Right inverse aᵀ (a aᵀ + λ² I)⁻¹ of a (m × k, m ≤ k) with the variable damping λ² described in the
     module docstring. Returns (inverse, λ², σ_min).
 

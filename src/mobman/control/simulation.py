@@ -34,10 +34,11 @@ from typing import Callable, Iterator, Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 from jax.flatten_util import ravel_pytree
 
 from mobman.batching import across_cores
-from mobman.control.laws import AugmentedJacobian
+from mobman.control.laws import AugmentedJacobian, Law
 from mobman.control.references import Reference
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.platform import DifferentialDrive
@@ -93,7 +94,7 @@ class SimulationResult:
         return replace(self, **{name: pick(getattr(self, name)) for name in batched})
 
 
-def controlled_task(law, task: Task) -> Task:
+def controlled_task(law: Law, task: Task) -> Task:
     """The task whose error the law regulates: ``task``, stacked with ``law.extra`` for the augmented law."""
     return stack(task, law.extra) if isinstance(law, AugmentedJacobian) and law.extra is not None else task
 
@@ -257,7 +258,9 @@ def _measure_chunk(robot, task, which, q):
     return mp.measures(measure_jacobian(robot, q, task, which))
 
 
-def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarray]:
+def compute_measures(
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task, names: Sequence[str]
+) -> dict[str, np.ndarray]:
     """Manipulability measures named ``<which>_<w|w2|w5>`` along a (batched) path of configurations."""
     parsed = parse_measure_names(names)
     q = np.asarray(q, dtype=float)
@@ -409,9 +412,9 @@ def _result(setup: _Setup, k0: int, out: dict) -> SimulationResult:
 def simulate(
     robot: MobileManipulator,
     task: Task | None,
-    law,
+    law: Law | Sequence[Law],
     reference: Reference,
-    q0,
+    q0: npt.ArrayLike,
     duration: float,
     dt: float,
     measures: Sequence[str] = (),
@@ -443,9 +446,9 @@ def simulate(
 def simulate_pieces(
     robot: MobileManipulator,
     task: Task | None,
-    law,
+    law: Law | Sequence[Law],
     reference: Reference,
-    q0,
+    q0: npt.ArrayLike,
     duration: float,
     dt: float,
     measures: Sequence[str] = (),

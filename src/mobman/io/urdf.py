@@ -476,7 +476,7 @@ def _spin_inertia(tree, joint, poses) -> float:
 
 
 def read_urdf(
-    path,
+    path: str | os.PathLike[str],
     tip: str | Sequence[str] = "arm_tool_link",
     base: str = "base_footprint",
     platform: str = "auto",
@@ -698,7 +698,7 @@ def _platform_inertials(tree, links, platform_pose, poses, wheel_pair):
 
 
 def load_urdf(
-    path,
+    path: str | os.PathLike[str],
     tip: str | Sequence[str] = "arm_tool_link",
     base: str = "base_footprint",
     platform: str = "auto",
@@ -715,7 +715,7 @@ def load_urdf(
     return read_urdf(path, tip, base, platform, wheels, wheel_radius, half_track, name, locked).robot
 
 
-def inspect_urdf(path, **options) -> UrdfSummary:
+def inspect_urdf(path: str | os.PathLike[str], **options: Any) -> UrdfSummary:
     """What :func:`read_urdf` keeps and leaves out of a URDF file (chains, wheels, passive joints)."""
     return read_urdf(path, **options).summary
 
@@ -826,7 +826,10 @@ def _limit_value(value: float):
 
 
 def write_urdf(
-    robot: MobileManipulator, path, body: PlatformBody | None = None, wheel: Wheel | None = None
+    robot: MobileManipulator,
+    path: str | os.PathLike[str],
+    body: PlatformBody | None = None,
+    wheel: Wheel | None = None,
 ) -> Path:
     """Write a robot as URDF, with its platform ``body`` and driving ``wheel`` inertials where given (those of
     a :class:`mobman.dynamics.DynamicModel`: ``write_urdf(model.robot, path, model.body, model.wheel)``).

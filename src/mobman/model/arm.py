@@ -93,7 +93,9 @@ class Joint:
             raise ModelError(f"Joint {self.name!r}: effort_max must be > 0, got {self.effort_max!r}")
         object.__setattr__(self, "visuals", tuple(self.visuals))
 
-    def pose_after(self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray):
+    def pose_after(
+        self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
         """World pose (R, p) of the joint frame, from its parent frame's world pose and the joint's motion
         variable q (batched): ``origin`` (R_o, p_o) then the motion by v = q + offset.
 
@@ -179,7 +181,9 @@ class Arm:
             return q_a
         return spatial.matvec(self.coupling_matrix, q_a)
 
-    def link_poses(self, q_a: jnp.ndarray, base=None) -> tuple[jnp.ndarray, jnp.ndarray]:
+    def link_poses(
+        self, q_a: jnp.ndarray, base: tuple[jnp.ndarray, jnp.ndarray] | None = None
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
         """Poses (R, p) of every joint frame after its motion, then the tool frame.
 
         Returns R of shape (..., n_joints + 1, 3, 3) and p of shape (..., n_joints + 1, 3), expressed in the

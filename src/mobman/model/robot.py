@@ -275,7 +275,7 @@ class MobileManipulator:
         g_p = self.platform.constraints(q[: self.platform.n_q])
         return jnp.concatenate([g_p, jnp.zeros((g_p.shape[0], self.n_q - self.platform.n_q), g_p.dtype)], 1)
 
-    def frames(self, q: jnp.ndarray) -> Frames:
+    def frames(self, q: jnp.ndarray | np.ndarray) -> Frames:
         """World poses of the platform, mounts and every arm frame at one configuration."""
         # one split of q (not a slice per use): its reverse-mode transpose is one concatenation
         n_p = self.platform.n_q

@@ -143,7 +143,9 @@ def cross(a: jnp.ndarray, b: jnp.ndarray, axis: int = -1) -> jnp.ndarray:
     return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=axis)
 
 
-def compose_fixed_pose(pose: tuple[jnp.ndarray, jnp.ndarray], t: Transform):
+def compose_fixed_pose(
+    pose: tuple[jnp.ndarray, jnp.ndarray], t: Transform
+) -> tuple[jnp.ndarray, jnp.ndarray]:
     """(R, p) ∘ T for a stored fixed transform T = (R_t, p_t): (R R_t, R p_t + p), its constant entries as
     scalars (:func:`combine`)."""
     r, p = pose
@@ -157,7 +159,7 @@ def fixed_pose(t: Transform) -> tuple[np.ndarray, np.ndarray]:
     return m[:3, :3], m[:3, 3]
 
 
-def planar_pose(x: jnp.ndarray, y: jnp.ndarray, theta: jnp.ndarray):
+def planar_pose(x: jnp.ndarray, y: jnp.ndarray, theta: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
     """(R, p) of a frame at (x, y, 0) rotated by theta about the vertical axis."""
     c, s = jnp.cos(theta), jnp.sin(theta)
     zero, one = jnp.zeros_like(c), jnp.ones_like(c)

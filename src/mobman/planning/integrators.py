@@ -16,7 +16,7 @@ the cost of a ``lax.scan`` on a CPU is dominated by the number of steps.
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple
+from typing import Any, Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -162,7 +162,7 @@ def _matrices(method: str) -> tuple[np.ndarray, np.ndarray]:
     return A, np.asarray(tab.b)
 
 
-def step(method: str, rhs: Callable, state, inputs, h: float):
+def step(method: str, rhs: Callable, state: Any, inputs: Any, h: float) -> Any:
     """One explicit Runge–Kutta step of d state/dt = rhs(state, input) (state a pytree) with stage inputs
     ``inputs[i]`` (the input at time t + c_i h).
 

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import jax
 import numpy as np
+import numpy.typing as npt
 import trimesh
 import viser
 import viser.transforms as vtf
@@ -95,7 +96,7 @@ class Snapshot:
 
 
 def evaluate(
-    robot: MobileManipulator, q, normalized: bool = False, dynamics: Dynamics | None = None
+    robot: MobileManipulator, q: npt.ArrayLike, normalized: bool = False, dynamics: Dynamics | None = None
 ) -> Snapshot:
     """Everything the viewer draws for configurations q (T, n_q), computed in blocks of :data:`CHUNK`
     configurations (one compilation per robot serves a single configuration and a whole motion).
@@ -419,7 +420,7 @@ class Viewer:
         host = f"[{self.host}]" if ":" in self.host else self.host
         return f"http://{host}:{self.server.get_port()}"
 
-    def show(self, q) -> None:
+    def show(self, q: npt.ArrayLike) -> None:
         """Draw configuration ``q`` (n_q values): robot, frames, ellipsoid, measures, J̄ and the flags."""
         q = np.asarray(q, dtype=float)
         if q.ndim != 1:
@@ -465,7 +466,7 @@ class Viewer:
     def __enter__(self) -> "Viewer":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     # --- scene -----------------------------------------------------------------------------------------
