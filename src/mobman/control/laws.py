@@ -47,6 +47,7 @@ Options shared by all laws
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
@@ -59,6 +60,9 @@ from mobman.errors import ModelError
 from mobman.linalg import eigvalsh
 from mobman.model.spatial import matmul, matvec
 from mobman.model.task import Task, stack
+
+if TYPE_CHECKING:
+    from mobman.model.robot import MobileManipulator
 
 
 def _gain(value, name: str, owner: str, allow_zero: bool = False) -> np.ndarray:
@@ -195,7 +199,15 @@ class BaylePseudoInverse(_Law):
         # instead of forming H
         return -self.k * matvec(projector.T, matvec(s_scaled.T, grad))
 
-    def __call__(self, robot, task: Task, q, t, xi_star, xi_star_dot):
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        task: Task,
+        q: jax.Array,
+        t: jax.Array,
+        xi_star: jax.Array,
+        xi_star_dot: jax.Array,
+    ) -> tuple[jnp.ndarray, dict]:
         return _resolve(self, robot, task, q, xi_star, xi_star_dot)
 
 
@@ -223,7 +235,15 @@ class NaitChabane(_Law):
     def _self_motion(self, projector, s_scaled, grad):
         return -matvec(projector, apply_gain(self.W, matvec(s_scaled.T, grad), "W"))
 
-    def __call__(self, robot, task: Task, q, t, xi_star, xi_star_dot):
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        task: Task,
+        q: jax.Array,
+        t: jax.Array,
+        xi_star: jax.Array,
+        xi_star_dot: jax.Array,
+    ) -> tuple[jnp.ndarray, dict]:
         return _resolve(self, robot, task, q, xi_star, xi_star_dot)
 
 
@@ -266,7 +286,15 @@ class AugmentedJacobian(_Law):
             object.__setattr__(self, "feedback", _gain(self.feedback, "feedback", "AugmentedJacobian"))
         self._check_options("AugmentedJacobian")
 
-    def __call__(self, robot, task: Task, q, t, xi_star, xi_star_dot):
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        task: Task,
+        q: jax.Array,
+        t: jax.Array,
+        xi_star: jax.Array,
+        xi_star_dot: jax.Array,
+    ) -> tuple[jnp.ndarray, dict]:
         task = robot.task if task is None else task
         extra = self.extra
         assert extra is not None  # checked in __post_init__
