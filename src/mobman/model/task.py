@@ -134,7 +134,7 @@ class Position(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(f"{c}_{self.label}" for c in self.components)
 
-    def check(self, robot) -> None:
+    def check(self, robot: "MobileManipulator") -> None:
         _check_arm(robot, self.arm, self.link)
 
     def _frame(self, frames):
@@ -142,10 +142,10 @@ class Position(Task):
         rs, ps = frames.links[self.arm]
         return rs[self.link], ps[self.link] + spatial.matvec_constant(rs[self.link], self.point)
 
-    def value(self, robot, q, frames):
+    def value(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         return _rows(self._frame(frames)[1], _components(self.components))
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         upto = _last_moving(robot, self.arm, self.link)
         _, _, lin, _ = frame_jacobian(robot, self._frame, self.arm, upto, q)
         return _rows(lin, _components(self.components))
@@ -165,16 +165,16 @@ class MountPosition(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(f"{c}_f" for c in self.components)
 
-    def check(self, robot) -> None:
+    def check(self, robot: "MobileManipulator") -> None:
         _check_arm(robot, self.arm)
 
     def _frame(self, frames):
         return frames.mounts[self.arm]
 
-    def value(self, robot, q, frames):
+    def value(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         return _rows(self._frame(frames)[1], _components(self.components))
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         _, _, lin, _ = frame_jacobian(robot, self._frame, None, -1, q)
         return _rows(lin, _components(self.components))
 
@@ -244,12 +244,12 @@ class PlanarAngle(_OrientationTask):
     def names(self) -> tuple[str, ...]:
         return ("angle",)
 
-    def angles(self, r):
+    def angles(self, r: jnp.ndarray) -> jnp.ndarray:
         if self.sequence == "ZYX":
             return jnp.arctan2(r[1, 0], r[0, 0])[None]
         return jnp.arctan2(-r[0, 1], r[1, 1])[None]
 
-    def margin(self, r):
+    def margin(self, r: jnp.ndarray) -> jnp.ndarray:
         return spatial.gimbal_margin(r, self.sequence)
 
 
@@ -267,10 +267,10 @@ class Elevation(_OrientationTask):
     def names(self) -> tuple[str, ...]:
         return ("elevation",)
 
-    def angles(self, r):
+    def angles(self, r: jnp.ndarray) -> jnp.ndarray:
         return jnp.arctan2(r[2, 0], r[2, 2])[None]
 
-    def margin(self, r):
+    def margin(self, r: jnp.ndarray) -> jnp.ndarray:
         return jnp.hypot(r[2, 0], r[2, 2])
 
 
@@ -301,10 +301,10 @@ class EulerAngles(_OrientationTask):
     def names(self) -> tuple[str, ...]:
         return tuple(f"{self.sequence.lower()}_{i + 1}" for i in self.select)
 
-    def angles(self, r):
+    def angles(self, r: jnp.ndarray) -> jnp.ndarray:
         return _rows(spatial.euler_angles(r, self.sequence), self.select)
 
-    def margin(self, r):
+    def margin(self, r: jnp.ndarray) -> jnp.ndarray:
         return spatial.gimbal_margin(r, self.sequence)
 
 
@@ -341,23 +341,23 @@ class Pose(Task):
     def euclidean(self) -> bool:
         return False
 
-    def check(self, robot) -> None:
+    def check(self, robot: "MobileManipulator") -> None:
         _check_arm(robot, self.arm, self.link)
 
     def _frame(self, frames):
         rs, ps = frames.links[self.arm]
         return rs[self.link], ps[self.link]
 
-    def value(self, robot, q, frames):
+    def value(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         r, p = self._frame(frames)
         return jnp.concatenate([p, so3.log(r)])
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         upto = _last_moving(robot, self.arm, self.link)
         _, _, lin, omega = frame_jacobian(robot, self._frame, self.arm, upto, q)
         return jnp.concatenate([lin, omega], axis=0)
 
-    def error(self, xi_desired, xi):
+    def error(self, xi_desired: jnp.ndarray, xi: jnp.ndarray) -> jnp.ndarray:
         position = xi_desired[..., :3] - xi[..., :3]
         return jnp.concatenate([position, so3.error(xi_desired[..., 3:], xi[..., 3:])], axis=-1)
 
@@ -383,7 +383,7 @@ class FunctionTask(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(self.labels)
 
-    def value(self, robot, q, frames):
+    def value(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         return jnp.reshape(jnp.asarray(self.fn(q)), (self.dim,))
 
 
@@ -403,24 +403,26 @@ class Stack(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(n for t in self.tasks for n in t.names)
 
-    def check(self, robot) -> None:
+    def check(self, robot: "MobileManipulator") -> None:
         for t in self.tasks:
             t.check(robot)
 
-    def value(self, robot, q, frames):
+    def value(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         return jnp.concatenate([t.value(robot, q, frames) for t in self.tasks])
 
-    def representation_singular(self, robot, q, frames):
+    def representation_singular(
+        self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames"
+    ) -> jnp.ndarray:
         return jnp.any(jnp.stack([t.representation_singular(robot, q, frames) for t in self.tasks]))
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: "MobileManipulator", q: jnp.ndarray, frames: "Frames") -> jnp.ndarray:
         return jnp.concatenate([t.jacobian(robot, q, frames) for t in self.tasks], axis=0)
 
     @property
     def euclidean(self) -> bool:
         return all(t.euclidean for t in self.tasks)
 
-    def error(self, xi_desired, xi):
+    def error(self, xi_desired: jnp.ndarray, xi: jnp.ndarray) -> jnp.ndarray:
         """Each part's error on its rows (the difference when every part is euclidean)."""
         if self.euclidean:
             return xi_desired - xi
