@@ -49,13 +49,13 @@ def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1) -> Callable:
 
     def apply(*xs):
         ndims = (core_ndims,) * len(xs) if isinstance(core_ndims, int) else core_ndims
-        xs = [jnp.asarray(x) for x in xs]
-        cores = [x.shape[x.ndim - n :] for x, n in zip(xs, ndims)]
-        batch = jnp.broadcast_shapes(*(x.shape[: x.ndim - n] for x, n in zip(xs, ndims)))
+        arrays = [jnp.asarray(x) for x in xs]
+        cores = [x.shape[x.ndim - n :] for x, n in zip(arrays, ndims)]
+        batch = jnp.broadcast_shapes(*(x.shape[: x.ndim - n] for x, n in zip(arrays, ndims)))
         if not batch:
-            return fn(*xs)
+            return fn(*arrays)
         size = math.prod(batch)
-        flat = [jnp.broadcast_to(x, batch + c).reshape((size,) + c) for x, c in zip(xs, cores)]
+        flat = [jnp.broadcast_to(x, batch + c).reshape((size,) + c) for x, c in zip(arrays, cores)]
         kernel = jax.vmap(fn)
         if size <= BLOCK or jax.default_backend() != "cpu":
             out = kernel(*flat)

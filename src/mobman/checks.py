@@ -6,11 +6,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import ModelError
 
 
-def finite(value, name: str, owner: str) -> float:
+def finite(value: float, name: str, owner: str) -> float:
     """``value`` as a finite float."""
     if isinstance(value, bool):
         raise ModelError(f"{owner}: {name} must be a number, got {value!r}")
@@ -23,7 +24,7 @@ def finite(value, name: str, owner: str) -> float:
     return number
 
 
-def positive(value, name: str, owner: str) -> float:
+def positive(value: float, name: str, owner: str) -> float:
     """``value`` as a finite float > 0."""
     number = finite(value, name, owner)
     if number <= 0:
@@ -31,7 +32,7 @@ def positive(value, name: str, owner: str) -> float:
     return number
 
 
-def non_negative(value, name: str, owner: str) -> float:
+def non_negative(value: float, name: str, owner: str) -> float:
     """``value`` as a finite float ≥ 0."""
     number = finite(value, name, owner)
     if number < 0:
@@ -39,15 +40,16 @@ def non_negative(value, name: str, owner: str) -> float:
     return number
 
 
-def vector3(value, name: str, owner: str) -> tuple[float, float, float]:
+def vector3(value: npt.ArrayLike, name: str, owner: str) -> tuple[float, float, float]:
     """``value`` as 3 finite floats."""
     values = tuple(np.ravel(np.asarray(value, dtype=object)))
     if len(values) != 3:
         raise ModelError(f"{owner}: {name} must be 3 numbers, got {value!r}")
-    return tuple(finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
+    x, y, z = (finite(v, f"{name}[{i}]", owner) for i, v in enumerate(values))
+    return x, y, z
 
 
-def inertia_tensor(value, name: str, owner: str) -> tuple[float, ...]:
+def inertia_tensor(value: npt.ArrayLike, name: str, owner: str) -> tuple[float, ...]:
     """A symmetric positive semi-definite 3 × 3 tensor (9 numbers row-major, or its diagonal as 3)."""
     try:
         tensor = np.asarray(value, dtype=float)

@@ -21,10 +21,11 @@ from typing import Callable
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.batching import across_cores, blocked
 from mobman.errors import InputError, SingularConfigurationError
-from mobman.model.robot import MobileManipulator
+from mobman.model.robot import Frames, MobileManipulator
 from mobman.model.tasks import Task
 
 
@@ -95,7 +96,7 @@ def _constraints(robot, q):
     return blocked(robot.constraints)(q)
 
 
-def validated_q(robot: MobileManipulator, q):
+def validated_q(robot: MobileManipulator, q: npt.ArrayLike) -> np.ndarray | jax.Array:
     """Validated configurations. NumPy arrays go to the compiled functions as they are; a ``jax.Array`` is
     checked on its device and passed on without a copy to the host."""
     if type(q) is np.ndarray:  # the common case first (a call for one configuration is mostly overhead)
@@ -107,7 +108,7 @@ def validated_q(robot: MobileManipulator, q):
     return robot.validate_q(q)
 
 
-def _vector(x, name: str, size: int) -> np.ndarray:
+def _vector(x, name: str, size: int) -> np.ndarray | jax.Array:
     """A finite float array (..., size), or InputError naming ``name``."""
     if isinstance(x, jax.core.Tracer):
         return x
@@ -122,22 +123,24 @@ def _vector(x, name: str, size: int) -> np.ndarray:
     return arr
 
 
-def forward(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+def forward(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None) -> jnp.ndarray:
     """Operational coordinates ξ = f(q), shape (..., m)."""
     return _forward(robot, validated_q(robot, q), resolve_task(robot, task))
 
 
-def jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+def jacobian(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None) -> jnp.ndarray:
     """Jacobian J(q) = ∂f/∂q, shape (..., m, n_q) (Bayle §3)."""
     return _jacobian(robot, validated_q(robot, q), resolve_task(robot, task))
 
 
-def reduced_jacobian(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+def reduced_jacobian(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None) -> jnp.ndarray:
     """Reduced Jacobian J̄(q) = J(q) S(q), shape (..., m, n_eta): ξ̇ = J̄ η (Bayle eq. 2)."""
     return _reduced_jacobian(robot, validated_q(robot, q), resolve_task(robot, task))
 
 
-def representation_singular(robot: MobileManipulator, q, task: Task | None = None) -> np.ndarray:
+def representation_singular(
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None
+) -> np.ndarray:
     """True where the task's coordinates are singular as a representation (the heading of a vertical axis,
     an Euler set's gimbal lock; :mod:`mobman.model.tasks`), boolean, shape (...). There ξ is not a chart of the
     frame and J, J̄ may be unbounded or NaN; kinematic and velocity singularities (KSC, VSC) are another
@@ -145,17 +148,17 @@ def representation_singular(robot: MobileManipulator, q, task: Task | None = Non
     return np.asarray(_representation(robot, validated_q(robot, q), resolve_task(robot, task)), dtype=bool)
 
 
-def S(robot: MobileManipulator, q) -> jnp.ndarray:
+def S(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     """Admissible-velocity basis S(q), shape (..., n_q, n_eta): q̇ = S(q) η."""
     return _S(robot, validated_q(robot, q))
 
 
-def constraints(robot: MobileManipulator, q) -> jnp.ndarray:
+def constraints(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     """Nonholonomic constraint rows G(q), shape (..., n_q − n_eta, n_q): G(q) q̇ = 0."""
     return _constraints(robot, validated_q(robot, q))
 
 
-def frames(robot: MobileManipulator, q):
+def frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
     """World poses of platform, mounts and arm frames for one configuration (see :class:`Frames`)."""
     return robot.frames(validated_q(robot, q))
 
@@ -167,9 +170,9 @@ def pinv(a: jnp.ndarray) -> jnp.ndarray:
 
 def inverse_velocity(
     robot: MobileManipulator,
-    q,
-    xi_dot,
-    z=None,
+    q: npt.ArrayLike,
+    xi_dot: npt.ArrayLike,
+    z: npt.ArrayLike | None = None,
     task: Task | None = None,
     inverse: Callable[[jnp.ndarray], jnp.ndarray] = pinv,
 ) -> tuple[jnp.ndarray, jnp.ndarray]:
@@ -199,7 +202,7 @@ def inverse_velocity(
     return eta, q_dot
 
 
-def rank(a, rtol: float = 1e-9) -> np.ndarray:
+def rank(a: npt.ArrayLike, rtol: float = 1e-9) -> np.ndarray:
     """Numerical rank of (batched) matrices: singular values above rtol · σmax (absolute floor 1e-12).
     InputError for NaN or infinite entries (their rank is undefined)."""
     try:
@@ -217,7 +220,13 @@ def rank(a, rtol: float = 1e-9) -> np.ndarray:
     return np.sum(s > np.maximum(rtol * smax, 1e-12), axis=-1)
 
 
-def is_consistent(robot: MobileManipulator, q, xi_dot, task: Task | None = None, rtol: float = 1e-9):
+def is_consistent(
+    robot: MobileManipulator,
+    q: npt.ArrayLike,
+    xi_dot: npt.ArrayLike,
+    task: Task | None = None,
+    rtol: float = 1e-9,
+) -> np.ndarray:
     """Consistency of the reduced kinematics: rank[J̄ | ξ̇] = rank J̄ (Bayle §4.3), batched."""
     task = resolve_task(robot, task)
     jbar = np.asarray(reduced_jacobian(robot, q, task))

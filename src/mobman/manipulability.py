@@ -27,11 +27,12 @@ values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, ge
 from __future__ import annotations
 
 from functools import lru_cache, partial, reduce
-from typing import Literal
+from typing import Any, Literal
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman import kinematics as K
 from mobman import linalg
@@ -134,12 +135,12 @@ def _as_jacobian(j) -> jnp.ndarray:
 _all_finite = jax.jit(lambda a: jnp.all(jnp.isfinite(a)))
 
 
-def singular_values(j) -> jnp.ndarray:
+def singular_values(j: npt.ArrayLike) -> jnp.ndarray:
     """Singular values of (..., m, k) matrices, shape (..., min(m, k)), descending."""
     return _singular_values(_as_jacobian(j))
 
 
-def measures(j, rank: int | None = None) -> dict[str, jnp.ndarray]:
+def measures(j: npt.ArrayLike, rank: int | None = None) -> dict[str, jnp.ndarray]:
     """The three measures of (..., m, k) Jacobians, each of shape (...) (Nait-Chabane eq. 17–19).
 
     ``{"yoshikawa": w, "inverse_condition": w2, "eccentricity": w5}``; with ``rank=r`` they are restricted to
@@ -151,17 +152,17 @@ def measures(j, rank: int | None = None) -> dict[str, jnp.ndarray]:
     return _measures(j, None if rank is None else int(rank))
 
 
-def yoshikawa(j, rank: int | None = None) -> jnp.ndarray:
+def yoshikawa(j: npt.ArrayLike, rank: int | None = None) -> jnp.ndarray:
     """w = σ_1⋯σ_m = √det(J Jᵀ) (Yoshikawa; Nait-Chabane eq. 13, 17), or σ_1⋯σ_r with ``rank=r``."""
     return measures(j, rank)["yoshikawa"]
 
 
-def inverse_condition(j, rank: int | None = None) -> jnp.ndarray:
+def inverse_condition(j: npt.ArrayLike, rank: int | None = None) -> jnp.ndarray:
     """w2 = σ_m / σ_1 (Nait-Chabane eq. 18), or σ_r / σ_1 with ``rank=r``."""
     return measures(j, rank)["inverse_condition"]
 
 
-def eccentricity(j, rank: int | None = None) -> jnp.ndarray:
+def eccentricity(j: npt.ArrayLike, rank: int | None = None) -> jnp.ndarray:
     """w5 = √(1 − σ_m² / σ_1²) (Nait-Chabane eq. 19), or with σ_r in place of σ_m with ``rank=r``."""
     return measures(j, rank)["eccentricity"]
 
@@ -172,7 +173,7 @@ def _ellipsoid(j):
     return _safe_sqrt(lam), u
 
 
-def ellipsoid(j) -> tuple[jnp.ndarray, jnp.ndarray]:
+def ellipsoid(j: npt.ArrayLike) -> tuple[jnp.ndarray, jnp.ndarray]:
     """Manipulability ellipsoid {J η : ‖η‖ ≤ 1} of (..., m, k) Jacobians (Nait-Chabane §3.1).
 
     Returns the principal semi-axes (..., m), descending (the singular values, zero-padded when k < m), and
@@ -199,14 +200,16 @@ def _check_arm(robot: MobileManipulator, arm: int) -> None:
         raise InputError(f"{robot.name}: arm index must be in 0..{len(robot.arms) - 1}, got {arm!r}")
 
 
-def arm_jacobian(robot: MobileManipulator, q, task: Task | None = None, arm: int = 0) -> jnp.ndarray:
+def arm_jacobian(
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, arm: int = 0
+) -> jnp.ndarray:
     """J_a: the columns of J = ∂ξ/∂q for arm ``arm``'s coordinates (platform fixed), shape (..., m, n_a)."""
     _check_arm(robot, arm)
     return K.jacobian(robot, q, task)[..., robot.arm_slice(arm)]
 
 
 def system_jacobian(
-    robot: MobileManipulator, q, task: Task | None = None, normalized: bool = False
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, normalized: bool = False
 ) -> jnp.ndarray:
     """J̄ = J S (Bayle eq. 2), or J̄_N = J̄ · diag(robot.velocity_limits) (Nait-Chabane eq. 23), (..., m, δ).
 
@@ -250,7 +253,7 @@ def _resolve_rank(robot, task, which: str, rank: Rank) -> int | None:
 # --- whole-robot analysis -------------------------------------------------------------------------
 
 
-def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = None) -> dict:
+def analyze(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, rank: Rank = None) -> dict:
     """The three measures of the arm (J_a), the system (J̄) and the normalised system (J̄_N), batched.
 
     Returns ``{"arm": {...}, "system": {...}, "system_normalized": {...} or None (no velocity limits),
@@ -269,6 +272,7 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
         )
     jbar = jac @ K.S(robot, q)
     j_arm = jac[..., robot.arm_slice(0)]
+    ranks: dict[str, int | None]
     if isinstance(rank, (int, np.integer)):
         ranks = {"arm": min(int(rank), j_arm.shape[-1]), "system": int(rank)}
     else:
@@ -276,7 +280,7 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
             "arm": _resolve_rank(robot, task, "arm", rank),
             "system": _resolve_rank(robot, task, "system", rank),
         }
-    out = {"arm": measures(j_arm, ranks["arm"]), "system": measures(jbar, ranks["system"])}
+    out: dict[str, Any] = {"arm": measures(j_arm, ranks["arm"]), "system": measures(jbar, ranks["system"])}
     limits = robot.velocity_limits
     out["system_normalized"] = (
         None if limits is None else measures(jbar * np.asarray(limits), ranks["system"])
@@ -334,7 +338,11 @@ def _jacobian_and_measures(robot, q, task, which, rank):
 
 
 def jacobian_and_measures(
-    robot: MobileManipulator, q, which: str = "system", task: Task | None = None, rank: Rank = None
+    robot: MobileManipulator,
+    q: npt.ArrayLike,
+    which: str = "system",
+    task: Task | None = None,
+    rank: Rank = None,
 ) -> tuple[jnp.ndarray, dict[str, jnp.ndarray]]:
     """The Jacobian ``which`` (``"arm"`` J_a, ``"system"`` J̄ = J S or ``"system_normalized"`` J̄_N) and its
     three measures, in one compiled call (batched).
@@ -361,7 +369,7 @@ def _gradient(robot, q, task, which, measure, rank):
 
 def gradient(
     robot: MobileManipulator,
-    q,
+    q: npt.ArrayLike,
     which: str = "system",
     measure: str = "eccentricity",
     task: Task | None = None,

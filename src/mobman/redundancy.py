@@ -27,6 +27,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 
 from mobman import kinematics as K
 from mobman.errors import SingularConfigurationError
@@ -62,23 +63,24 @@ class Singularity(NamedTuple):
 def sample_configurations(robot: MobileManipulator, samples: int = 64, seed: int = 0) -> np.ndarray:
     """Seeded random configurations, shape (samples, n_q), drawn as described in the module docstring."""
     rng = np.random.default_rng(seed)
-    low, high = [], []
+    bounds = []
     kinds = ["revolute"] * robot.platform.n_q + [j.kind for a in robot.arms for j in a.joints]
     for kind, (lo, hi) in zip(kinds, robot.position_limits):
         span = math.pi if kind == "revolute" else 1.0
         if math.isfinite(lo) and math.isfinite(hi):
-            low.append(lo), high.append(hi)
+            bounds.append((lo, hi))
         elif math.isfinite(lo):
-            low.append(lo), high.append(lo + span)
+            bounds.append((lo, lo + span))
         elif math.isfinite(hi):
-            low.append(hi - span), high.append(hi)
+            bounds.append((hi - span, hi))
         else:
-            low.append(-span), high.append(span)
+            bounds.append((-span, span))
+    low, high = zip(*bounds)
     return rng.uniform(low, high, size=(samples, robot.n_q))
 
 
 def ranks(
-    robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, rtol: float = RTOL
 ) -> tuple[np.ndarray, np.ndarray]:
     """(d(q), d̄(q)) = (rank J(q), rank J̄(q)), integer arrays with the leading shape of q."""
     j = np.asarray(K.jacobian(robot, q, task))
@@ -126,7 +128,7 @@ def _singularity(generic_rank: int, rank: np.ndarray) -> Singularity:
 
 
 def is_kinematic_singular(
-    robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, rtol: float = RTOL
 ) -> Singularity:
     """KSC test d(q) < D, with singularity order D − d(q) (Bayle §3), batched over q."""
     d, _ = ranks(robot, q, task, rtol)
@@ -134,7 +136,7 @@ def is_kinematic_singular(
 
 
 def is_velocity_singular(
-    robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, rtol: float = RTOL
 ) -> Singularity:
     """VSC test d̄(q) < D̄, with singularity order D̄ − d̄(q) (Bayle §4.2), batched over q."""
     _, d_bar = ranks(robot, q, task, rtol)
@@ -142,14 +144,18 @@ def is_velocity_singular(
 
 
 def is_consistent(
-    robot: MobileManipulator, q, xi_dot, task: Task | None = None, rtol: float = RTOL
+    robot: MobileManipulator,
+    q: npt.ArrayLike,
+    xi_dot: npt.ArrayLike,
+    task: Task | None = None,
+    rtol: float = RTOL,
 ) -> np.ndarray:
     """Consistency test rank[J̄ | ξ̇] = rank J̄ (Bayle §4.3): ξ̇ is realisable by some η (batched)."""
     return K.is_consistent(robot, q, xi_dot, task, rtol)
 
 
 def consistency_relations(
-    robot: MobileManipulator, q, task: Task | None = None, rtol: float = RTOL
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, rtol: float = RTOL
 ) -> np.ndarray:
     """Rows y with yᵀ J̄(q) = 0 spanning the relations yᵀ ξ̇ = 0 that hold almost everywhere, (..., m − D̄, m).
 

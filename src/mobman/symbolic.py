@@ -329,13 +329,13 @@ def trig_normal(expr: sp.Expr, q: Sequence[sp.Symbol]) -> sp.Expr:
 @lru_cache(maxsize=4096)
 def _trig_normal(expr: sp.Expr, q: tuple[sp.Symbol, ...]) -> sp.Expr:
     """Canonical form of ``expr`` (cached; see :func:`trig_normal`)."""
-    q = [v for v in q if expr.has(v)]
-    if not q:
+    present = [v for v in q if expr.has(v)]
+    if not present:
         return sp.factor(sp.together(expr))
-    s = sp.symbols(f"_s0:{len(q)}", real=True)
-    c = sp.symbols(f"_c0:{len(q)}", real=True)
+    s = sp.symbols(f"_s0:{len(present)}", real=True)
+    c = sp.symbols(f"_c0:{len(present)}", real=True)
     forward = {}
-    for v, si, ci in zip(q, s, c):
+    for v, si, ci in zip(present, s, c):
         forward[sp.sin(v)] = si
         forward[sp.cos(v)] = ci
     numerator, denominator = sp.fraction(sp.together(sp.expand_trig(expr).subs(forward)))
@@ -348,12 +348,12 @@ def _trig_normal(expr: sp.Expr, q: tuple[sp.Symbol, ...]) -> sp.Expr:
         if poly == 0:
             return poly
         forms = []
-        for order in (gens, (*c, *s, *gens[2 * len(q) :])):
+        for order in (gens, (*c, *s, *gens[2 * len(present) :])):
             _, remainder = sp.reduced(poly, ideal, *order, order="lex")
             forms.append(sp.factor(remainder))
         return min(forms, key=sp.count_ops)
 
-    back = {si: sp.sin(v) for v, si in zip(q, s)} | {ci: sp.cos(v) for v, ci in zip(q, c)}
+    back = {si: sp.sin(v) for v, si in zip(present, s)} | {ci: sp.cos(v) for v, ci in zip(present, c)}
     return (reduce(numerator) / reduce(denominator)).subs(back)
 
 

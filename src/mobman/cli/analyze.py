@@ -16,6 +16,7 @@ posture of every built-in robot (no joint pair aligned, no VSC).
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import typer
@@ -65,7 +66,7 @@ def _regular_quantities(robot: MobileManipulator, q: np.ndarray, jbar: np.ndarra
     measures = mp.analyze(robot, q, rank="auto")
     out = []
     for k in range(q.shape[0]):
-        manipulability = {
+        manipulability: dict[str, Any] = {
             level: None
             if measures[level] is None
             else {name: float(v[k]) for name, v in measures[level].items()}

@@ -105,8 +105,8 @@ def _inertials(data: dict, robot):
     from mobman.model.arm import LinkInertial
 
     if robot.name in REAL_ROBOTS and not any(k in data for k in ("platform", "wheel", "links")):
-        gravity = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
-        model = dyn.DynamicModel.from_urdf(urdf_model(robot.name), gravity)
+        g_x, g_y, g_z = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
+        model = dyn.DynamicModel.from_urdf(urdf_model(robot.name), (g_x, g_y, g_z))
         return replace(model, payload=_payload(data, robot))
     platform = fields.table(data, "platform", "platform")
     fields.keys(platform, "platform", ("mass", "inertia_z", "com"))

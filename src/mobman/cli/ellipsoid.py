@@ -27,14 +27,21 @@ from mobman import kinematics as K
 from mobman.cli.app import app
 from mobman.cli.common import load_dynamics, load_robot
 from mobman.cli.limits import STRICT_HELP, outside_limits
-from mobman.dynamics.ellipsoids import GRASPS, Ellipsoid, dynamic_ellipsoid, grasp_task, kinematic_ellipsoid
+from mobman.dynamics.ellipsoids import (
+    GRASPS,
+    Ellipsoid,
+    Method,
+    dynamic_ellipsoid,
+    grasp_task,
+    kinematic_ellipsoid,
+)
 from mobman.dynamics.grasp import HeldObject
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
 
 KINDS = ("kinematic", "dynamic")
-METHODS = ("exact", "paper")
+METHODS: tuple[Method, ...] = ("exact", "paper")
 
 
 def ellipsoid_report(e: Ellipsoid) -> dict:

@@ -14,7 +14,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import typer
@@ -51,7 +53,7 @@ class CoordinateSums:
 
     groups: tuple[tuple[int, ...], ...]
 
-    def __call__(self, q):
+    def __call__(self, q: jax.Array) -> jax.Array:
         return jnp.stack([sum((q[i] for i in group[1:]), q[group[0]]) for group in self.groups])
 
 
@@ -188,7 +190,7 @@ def plan_command(
     )
     coarse = setting.jacobian_setting
     d0, d1 = dexterity(coarse, z0, q0), dexterity(coarse, result.z, q0)
-    report = {
+    report: dict[str, Any] = {
         "robot": robot_name,
         "algorithm": algorithm,
         "step": options.step,

@@ -19,7 +19,7 @@ from mobman.model.robots import ROBOTS
 @app.command("robots")
 def robots_command(json_output: bool = typer.Option(False, "--json", help="Print one JSON object.")) -> None:
     """List the built-in robots, their parameters (defaults) and coordinate names."""
-    entries = []
+    entries: list[dict] = []
     for name, factory in ROBOTS.items():
         if name in REAL_ROBOTS and not REAL_ROBOTS[name].available():
             summary = (factory.__doc__ or "").strip().splitlines()[0]

@@ -16,6 +16,7 @@ import contextlib
 import math
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import typer
@@ -28,6 +29,10 @@ from mobman.cli.common import MAX_STEPS, check_disk, check_steps, not_reached
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.io import dump_json, trajectories
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
+
+if TYPE_CHECKING:
+    from mobman.control.simulation import SimulationResult
+    from mobman.control.spec import Spec
 
 PROGRESS_STEPS = 5000
 """Runs with more steps than this show a progress bar (computed in compiled chunks)."""
@@ -66,17 +71,26 @@ def _progress(show: bool) -> Iterator[Callable[[float], None] | None]:
         yield lambda f: progress.update(bar, completed=f)
 
 
-def _arguments(spec) -> tuple[tuple, dict]:
-    args = (spec.robot, spec.task, spec.law, spec.reference, spec.q0, spec.duration, spec.dt)
-    return args, {"measures": spec.measures, "integrator": spec.integrator}
+def _arguments(spec) -> dict[str, Any]:
+    """The keyword arguments of :func:`mobman.control.simulate` that a spec sets."""
+    return {
+        "robot": spec.robot,
+        "task": spec.task,
+        "law": spec.law,
+        "reference": spec.reference,
+        "q0": spec.q0,
+        "duration": spec.duration,
+        "dt": spec.dt,
+        "measures": spec.measures,
+        "integrator": spec.integrator,
+    }
 
 
 def _run(spec, quiet: bool):
     from mobman.control import simulate
 
-    args, kwargs = _arguments(spec)
     with _progress(not quiet and _steps(spec) > PROGRESS_STEPS) as progress:
-        return simulate(*args, **kwargs, progress=progress)
+        return simulate(**_arguments(spec), progress=progress)
 
 
 def _series(result) -> dict:
@@ -100,18 +114,19 @@ def _files(series: dict) -> dict:
     return {**flat, **{f"measures_{name}": values for name, values in series["measures"].items()}}
 
 
-def stream(spec, folder: Path | None, quiet: bool = True, chunk: int = STREAM_STEPS) -> tuple[dict, object]:
+def stream(
+    spec: Spec, folder: Path | None, quiet: bool = True, chunk: int = STREAM_STEPS
+) -> tuple[dict, SimulationResult]:
     """Run ``spec`` in pieces of ``chunk`` samples; with a ``folder``, append each time series to
     ``folder/NAME.npy``. Returns the run's metrics and the run's last piece."""
     from mobman.control import metrics, simulate_pieces
 
     n = _steps(spec)
-    args, kwargs = _arguments(spec)
     summary = metrics.RunningSummary(spec.robot)
-    files: dict[str, np.ndarray] = {}
+    files: dict[str, np.memmap] = {}
     piece, k0 = None, 0
     with _progress(not quiet) as progress:
-        for piece in simulate_pieces(*args, **kwargs, chunk=chunk):
+        for piece in simulate_pieces(**_arguments(spec), chunk=chunk):
             summary.add(piece)
             if folder is not None:
                 for name, values in _files(_series(piece)).items():
@@ -130,6 +145,7 @@ def stream(spec, folder: Path | None, quiet: bool = True, chunk: int = STREAM_ST
     for array in files.values():
         array.flush()
     files.clear()  # closes the files
+    assert piece is not None  # a run has at least one piece
     return summary.metrics(), piece
 
 
@@ -186,7 +202,9 @@ def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
 def _write_streamed(out: Path, spec_path: Path, spec, summary: dict) -> list[Path]:
     samples = _steps(spec)
     result, stride = _decimated(out, spec, samples)
-    files = {name: f"{name}.npy" for name in _series(result) if name != "measures"}
+    files: dict[str, str | dict[str, str]] = {
+        name: f"{name}.npy" for name in _series(result) if name != "measures"
+    }
     files["measures"] = {name: f"measures_{name}.npy" for name in spec.measures}
     document = {
         "spec": str(spec_path),

@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import fields
+from typing import TypeVar
 
 import jax
 
+T = TypeVar("T")
 
-def pytree(*data: str):
+
+def pytree(*data: str) -> Callable[[type[T]], type[T]]:
     """Class decorator: register a dataclass as a pytree whose ``data`` fields are leaves.
 
     Unflattening bypasses ``__init__`` (and its validation), so transformed copies may hold tracers.

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import jax
 import jax.numpy as jnp
@@ -27,6 +27,10 @@ import numpy as np
 
 from mobman.control._tree import pytree
 from mobman.errors import ModelError
+
+if TYPE_CHECKING:
+    from mobman.model.robot import MobileManipulator
+    from mobman.model.tasks import Task
 
 MEASURES = ("eccentricity", "yoshikawa", "inverse_condition")
 WHICH = ("arm", "system", "system_normalized")
@@ -36,15 +40,27 @@ WHICH = ("arm", "system", "system_normalized")
 class Criterion:
     """Base class of the criteria."""
 
-    def __call__(self, robot, q, task=None, xi_star=None) -> jnp.ndarray:
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        q: jax.Array,
+        task: Task | None = None,
+        xi_star: jax.Array | None = None,
+    ) -> jnp.ndarray:
         raise NotImplementedError
 
-    def gradient(self, robot, q, task=None, xi_star=None) -> jnp.ndarray:
+    def gradient(
+        self,
+        robot: MobileManipulator,
+        q: jax.Array,
+        task: Task | None = None,
+        xi_star: jax.Array | None = None,
+    ) -> jnp.ndarray:
         """∇P(q), shape (n_q,), by reverse-mode autodiff (ξ* is held fixed)."""
         return jax.grad(lambda qq: self(robot, qq, task, xi_star))(jnp.asarray(q, dtype=float))
 
 
-def measure_jacobian(robot, q, task, which: str) -> jnp.ndarray:
+def measure_jacobian(robot: MobileManipulator, q: jax.Array, task: Task | None, which: str) -> jnp.ndarray:
     """The Jacobian whose ellipsoid a manipulability measure describes: J_a (arm), J̄ or J̄_N = J̄ R."""
     from mobman import manipulability as mp
 
@@ -82,13 +98,18 @@ class Manipulability(Criterion):
             raise ModelError(f"Manipulability: measure {self.measure!r} not one of {', '.join(MEASURES)}")
         if self.which not in WHICH:
             raise ModelError(f"Manipulability: which {self.which!r} not one of {', '.join(WHICH)}")
-        if self.sign is None:
-            object.__setattr__(self, "sign", 1.0 if self.measure == "eccentricity" else -1.0)
-        elif self.sign not in (1.0, -1.0):
-            raise ModelError(f"Manipulability: sign must be +1 or −1, got {self.sign!r}")
-        object.__setattr__(self, "sign", float(self.sign))
+        sign = (1.0 if self.measure == "eccentricity" else -1.0) if self.sign is None else self.sign
+        if sign not in (1.0, -1.0):
+            raise ModelError(f"Manipulability: sign must be +1 or −1, got {sign!r}")
+        object.__setattr__(self, "sign", float(sign))
 
-    def __call__(self, robot, q, task=None, xi_star=None):
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        q: jax.Array,
+        task: Task | None = None,
+        xi_star: jax.Array | None = None,
+    ) -> jax.Array:
         from mobman import manipulability as mp
 
         if self.which == "system_normalized" and robot.velocity_limits is None:
@@ -96,6 +117,7 @@ class Manipulability(Criterion):
                 f"{robot.name}: the normalised measure needs velocity limits for every quasi-velocity"
             )
         jac = measure_jacobian(robot, q, task, self.which)
+        assert self.sign is not None  # set in __post_init__
         return self.sign * mp.measures(jac, rank=self.rank)[self.measure] ** self.power
 
 
@@ -105,7 +127,13 @@ class JointLimitDistance(Criterion):
     """P = Σ_i ((q_i − q̄_i) / (q_i,max − q_i,min))² over the arm joints with finite limits, q̄_i the middle
     of the range (Liégeois' criterion); 0 at mid-range. Joints without limits do not contribute."""
 
-    def __call__(self, robot, q, task=None, xi_star=None):
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        q: jax.Array,
+        task: Task | None = None,
+        xi_star: jax.Array | None = None,
+    ) -> jax.Array:
         terms = []
         for i, (lo, hi) in enumerate(robot.position_limits):
             if math.isfinite(lo) and math.isfinite(hi):
@@ -145,7 +173,7 @@ class CubicTransition:
             if not 0.0 <= float(getattr(self, name)) <= 1.0:
                 raise ModelError(f"CubicTransition: {name} must be in [0, 1], got {getattr(self, name)!r}")
 
-    def __call__(self, xi_star) -> jnp.ndarray:
+    def __call__(self, xi_star: jax.Array) -> jnp.ndarray:
         xi_star = jnp.asarray(xi_star, dtype=float)
         m = xi_star.shape[-1] if xi_star.ndim else 0
         if self.coordinate >= m:  # shapes are static: checked once per trace, never clamped
@@ -168,7 +196,13 @@ class Blend(Criterion):
     arm: Criterion
     alpha: CubicTransition
 
-    def __call__(self, robot, q, task=None, xi_star=None):
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        q: jax.Array,
+        task: Task | None = None,
+        xi_star: jax.Array | None = None,
+    ) -> jax.Array:
         if xi_star is None:
             from mobman.kinematics import forward
 
@@ -188,7 +222,13 @@ class FunctionCriterion(Criterion):
         if not callable(self.fn):
             raise ModelError("FunctionCriterion: fn must be a callable of q")
 
-    def __call__(self, robot, q, task=None, xi_star=None):
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        q: jax.Array,
+        task: Task | None = None,
+        xi_star: jax.Array | None = None,
+    ) -> jax.Array:
         return jnp.reshape(jnp.asarray(self.fn(q)), ())
 
 

@@ -17,15 +17,22 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError
+
+if TYPE_CHECKING:
+    from mobman.control.simulation import SimulationResult
+    from mobman.model.robot import MobileManipulator
 
 V_THRESHOLD = 1e-3
 """Default |v| (m/s) below which the platform speed counts as zero for the graining points."""
 
 
-def graining_points(v, threshold: float = V_THRESHOLD) -> int:
+def graining_points(v: npt.ArrayLike, threshold: float = V_THRESHOLD) -> int:
     """Number of sign changes of v, ignoring the samples with |v| ≤ threshold."""
     v = np.asarray(v, dtype=float)
     if v.ndim != 1:
@@ -36,7 +43,7 @@ def graining_points(v, threshold: float = V_THRESHOLD) -> int:
     return int(np.count_nonzero(signs[1:] != signs[:-1]))
 
 
-def first_significant(v, threshold: float = V_THRESHOLD) -> float:
+def first_significant(v: npt.ArrayLike, threshold: float = V_THRESHOLD) -> float:
     """The first value of v with |v| > threshold (0.0 if there is none)."""
     v = np.asarray(v, dtype=float)
     idx = np.flatnonzero(np.abs(v) > threshold)
@@ -53,7 +60,7 @@ def _excess(limits: np.ndarray, q) -> np.ndarray:
     return np.maximum(limits[:, 0] - q, 0.0) + np.maximum(q - limits[:, 1], 0.0)
 
 
-def joint_limit_violations(robot, q) -> dict:
+def joint_limit_violations(robot: MobileManipulator, q: npt.ArrayLike) -> dict:
     """How a path of configurations q (N × n_q) leaves the robot's joint position limits: the number of
     samples outside, the worst excess (rad or m) and the name of its coordinate (see the module docstring)."""
     excess = _excess(np.asarray(robot.position_limits, dtype=float), q)
@@ -71,7 +78,9 @@ class RunningSummary:
     other (:meth:`add`), so that a long run need never be held in memory whole: :meth:`metrics` gives the
     same numbers as :func:`summarize` of the whole run (sums taken piece by piece, so equal to rounding)."""
 
-    def __init__(self, robot, transient: float = 0.0, v_threshold: float = V_THRESHOLD) -> None:
+    def __init__(
+        self, robot: MobileManipulator, transient: float = 0.0, v_threshold: float = V_THRESHOLD
+    ) -> None:
         if not (np.isfinite(v_threshold) and v_threshold >= 0):
             raise InputError(f"summarize: v_threshold must be ≥ 0, got {v_threshold!r}")
         self.robot, self.transient, self.v_threshold = robot, transient, v_threshold
@@ -81,7 +90,8 @@ class RunningSummary:
         self._after = [0, 0.0, -np.inf]  # samples with t ≥ transient, Σ e², max e
         self._final_error = 0.0
         self._sign: float | None = None  # sign of the last significant v
-        self._grains, self._v_initial = 0, None
+        self._grains = 0
+        self._v_initial: float | None = None
         self._tail: dict[
             str, np.ndarray
         ] = {}  # the last ee point, platform point and two η of the last piece
@@ -91,7 +101,7 @@ class RunningSummary:
         self._worst = np.zeros(len(self._limits))
         self._measures: dict[str, list[float]] = {}
 
-    def add(self, piece) -> None:
+    def add(self, piece: SimulationResult) -> None:
         """Feed the next samples: a :class:`~mobman.control.simulation.SimulationResult` of one run."""
         from mobman.kinematics import forward
         from mobman.model.tasks import Position
@@ -176,9 +186,17 @@ class RunningSummary:
         return out
 
 
-def summarize(result, robot=None, transient: float = 0.0, v_threshold: float = V_THRESHOLD) -> dict:
+def summarize(
+    result: SimulationResult,
+    robot: MobileManipulator | None = None,
+    transient: float = 0.0,
+    v_threshold: float = V_THRESHOLD,
+) -> dict:
     """The metrics of one run as a JSON-friendly dict (see the module docstring)."""
-    summary = RunningSummary(result.robot if robot is None else robot, transient, v_threshold)
+    robot = result.robot if robot is None else robot
+    if robot is None:
+        raise InputError("summarize: the result names no robot; pass robot=")
+    summary = RunningSummary(robot, transient, v_threshold)
     summary.add(result)
     return summary.metrics()
 

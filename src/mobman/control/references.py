@@ -18,11 +18,12 @@ Timing laws s(τ), τ ∈ [0, 1] (Biagiotti & Melchiorri, *Trajectory planning f
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Sequence
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman import checks
 from mobman.control._tree import pytree
@@ -69,7 +70,7 @@ class Reference:
     def _one(self, t: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
         raise NotImplementedError
 
-    def __call__(self, t) -> tuple[jnp.ndarray, jnp.ndarray]:
+    def __call__(self, t: npt.ArrayLike) -> tuple[jnp.ndarray, jnp.ndarray]:
         """(ξ*(t), ξ̇*(t)), each of shape ``jnp.shape(t) + (dim,)``."""
         t = jnp.asarray(t, dtype=float)
         return jnp.vectorize(self._one, signature="()->(m),(m)")(t)
@@ -80,8 +81,8 @@ class Reference:
 class Line(Reference):
     """Straight segment from ``start`` to ``end`` in ``duration`` seconds with a timing law (any dimension)."""
 
-    start: tuple[float, ...]
-    end: tuple[float, ...]
+    start: Sequence[float] | np.ndarray
+    end: Sequence[float] | np.ndarray
     duration: float
     timing: str = "linear"
 
@@ -113,7 +114,7 @@ class Ellipse(Reference):
     (rad) adds a constant orientation component (e.g. the heading ξ3 of ``bayle_planar``'s full task).
     """
 
-    center: tuple[float, ...]
+    center: Sequence[float] | np.ndarray
     semi_axes: tuple[float, float]
     period: float
     phase: float = 0.0
@@ -221,7 +222,8 @@ class FunctionReference(Reference):
 
     @property
     def dim(self) -> int:
-        return int(self.size)
+        assert self.size is not None  # set in __post_init__
+        return self.size
 
     def _one(self, t):
         fn = lambda tt: jnp.atleast_1d(jnp.asarray(self.fn(tt), dtype=float))  # noqa: E731

@@ -34,6 +34,7 @@ from typing import Callable, Iterator, Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 from jax.flatten_util import ravel_pytree
 
 from mobman.batching import across_cores
@@ -119,7 +120,7 @@ _RK4_OUT = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
 def _step(robot, integrator, control, q, t, h):
     """One integration step: (q_next, q_mid or None, η at t, the law's info at t)."""
     lie = integrator == "lie"
-    unravel = []  # set while the stage is traced: how to split a sample back into (η, info)
+    unravel: list[Callable] = []  # set while the stage is traced: how to split a sample back into (η, info)
 
     def stage(carry, row):
         x, k = carry
@@ -255,7 +256,9 @@ def _measure_chunk(robot, task, which, q):
     return mp.measures(measure_jacobian(robot, q, task, which))
 
 
-def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarray]:
+def compute_measures(
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task, names: Sequence[str]
+) -> dict[str, np.ndarray]:
     """Manipulability measures named ``<which>_<w|w2|w5>`` along a (batched) path of configurations."""
     parsed = parse_measure_names(names)
     q = np.asarray(q, dtype=float)
@@ -409,9 +412,9 @@ def _result(setup: _Setup, k0: int, out: dict) -> SimulationResult:
 def simulate(
     robot: MobileManipulator,
     task: Task | None,
-    law,
+    law: Law | Sequence[Law],
     reference: Reference,
-    q0,
+    q0: npt.ArrayLike,
     duration: float,
     dt: float,
     measures: Sequence[str] = (),
@@ -443,9 +446,9 @@ def simulate(
 def simulate_pieces(
     robot: MobileManipulator,
     task: Task | None,
-    law,
+    law: Law | Sequence[Law],
     reference: Reference,
-    q0,
+    q0: npt.ArrayLike,
     duration: float,
     dt: float,
     measures: Sequence[str] = (),

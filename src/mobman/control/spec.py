@@ -162,10 +162,7 @@ def _reference(data: dict) -> references.Reference:
     return fields.kind(table, f, kinds)(table)
 
 
-def _criterion(table: dict | None, field: str) -> criteria.Criterion | None:
-    if table is None:
-        return None
-
+def _criterion(table: dict, field: str) -> criteria.Criterion:
     def manipulability(t):
         fields.keys(t, field, ("kind", "measure", "which", "sign", "power"))
         return fields.build(

@@ -48,7 +48,9 @@ from mobman.dynamics.simulation import SimulationResult, simulate, zero_torque
 from mobman.model.inertial import Payload, PlatformBody, Wheel  # plain data, re-exported here
 
 
-def yamamoto_model(payload: Payload | None = None, gravity=(0.0, 0.0, 0.0)) -> DynamicModel:
+def yamamoto_model(
+    payload: Payload | None = None, gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+) -> DynamicModel:
     """Yamamoto & Yun's two-arm mobile manipulator with Table 1–2 inertials (horizontal motion: no gravity)."""
     from mobman.model.robots import yamamoto_dual_arm
 

@@ -45,11 +45,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import partial
-from typing import Literal, Sequence
+from typing import TYPE_CHECKING, Literal, Sequence
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman import kinematics
 from mobman.dynamics.grasp import HeldObject, grasp_matrix, grasp_matrix_rate
@@ -58,9 +59,12 @@ from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import PlanarAngle, Position, Task, stack
 
+if TYPE_CHECKING:
+    from mobman.dynamics.inertia import DynamicModel
+
 Method = Literal["paper", "exact"]
 Grasp = Literal["rigid", "point"]
-GRASPS = ("rigid", "point")
+GRASPS: tuple[Grasp, ...] = ("rigid", "point")
 
 
 # --- the ellipsoid as a result ---------------------------------------------------------------------
@@ -129,12 +133,12 @@ class Ellipsoid:
         """
         keep = list(keep)
         fixed = [i for i in range(self.center.shape[-1]) if i not in keep]
-        at = np.zeros(len(fixed)) if at is None else np.asarray(at, dtype=float)
+        values = np.zeros(len(fixed)) if at is None else np.asarray(at, dtype=float)
         sigma = self.shape_matrix
         s_tt = sigma[..., keep, :][..., :, keep]
         s_ts = sigma[..., keep, :][..., :, fixed]
         s_ss = sigma[..., fixed, :][..., :, fixed]
-        d = at - self.center[..., fixed]
+        d = values - self.center[..., fixed]
         flat = "Ellipsoid.section: the block Σ_ss of the fixed coordinates is singular (a flat ellipsoid)"
         gain = np.swapaxes(_solve(s_ss, np.swapaxes(s_ts, -1, -2), flat), -1, -2)  # Σ_ts Σ_ss⁻¹
         center = self.center[..., keep] + np.einsum("...ij,...j->...i", gain, d)
@@ -147,7 +151,7 @@ class Ellipsoid:
             center, root * scale, tuple(self.names[i] for i in keep), np.logical_and(self.feasible, rho2 >= 0)
         )
 
-    def contains(self, x, tol: float = 1e-9) -> np.ndarray:
+    def contains(self, x: npt.ArrayLike, tol: float = 1e-9) -> np.ndarray:
         """Whether points x (..., m) lie in E (Σ invertible), up to ``tol`` on the quadratic form."""
         d = np.asarray(x, dtype=float) - self.center
         flat = "Ellipsoid.contains: the shape matrix Σ is singular (a flat ellipsoid)"
@@ -181,24 +185,32 @@ def actuator_map(robot: MobileManipulator, wheels: bool) -> np.ndarray:
     """T (n_eta × n_eta) with η = T u: the wheel matrix on the platform block when ``wheels``, else I."""
     t = np.eye(robot.n_eta)
     if wheels:
-        t[:2, :2] = robot.platform.wheel_matrix()
+        platform = robot.platform
+        assert isinstance(platform, DifferentialDrive)  # only a differential drive has wheels
+        t[:2, :2] = platform.wheel_matrix()
     return t
 
 
 def actuator_velocity_limits(robot: MobileManipulator, platform_scale: float = 1.0) -> np.ndarray:
     """u_max: wheel speed limits (or the platform's η limits), then joint rate limits; the platform part times
     ``platform_scale``. ModelError when a limit is missing."""
-    wheels = uses_wheels(robot)
-    if wheels:
-        platform = (robot.platform.wheel_speed_max,) * 2
+    platform = robot.platform
+    parts: list[tuple[float, ...] | None]
+    if (
+        uses_wheels(robot)
+        and isinstance(platform, DifferentialDrive)
+        and platform.wheel_speed_max is not None
+    ):
+        parts = [(platform.wheel_speed_max,) * 2]
     else:
-        platform = robot.platform.velocity_limits
-    arms = [a.velocity_limits for a in robot.arms]
-    if platform is None or any(a is None for a in arms):
+        parts = [platform.velocity_limits]
+    parts += [a.velocity_limits for a in robot.arms]
+    known = [v for v in parts if v is not None]
+    if len(known) < len(parts):
         raise ModelError(
             f"{robot.name}: the kinematic ellipsoid needs velocity limits of the platform and of every joint"
         )
-    limits = np.array(tuple(platform) + tuple(v for a in arms for v in a), dtype=float)
+    limits = np.array([v for part in known for v in part], dtype=float)
     limits[: robot.platform.n_eta] *= platform_scale
     return limits
 
@@ -227,13 +239,13 @@ def point_grasp_matrix(n_arms: int) -> np.ndarray:
     return np.hstack([np.eye(2)] * n_arms)
 
 
-def _tool_points(robot: MobileManipulator, q: jnp.ndarray) -> jnp.ndarray:
+def _tool_points(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     return jnp.stack(
         [kinematics.forward(robot, q, Position("xy", arm=i)) for i in range(len(robot.arms))], axis=-2
     )
 
 
-def grasp_offsets(robot: MobileManipulator, q) -> jnp.ndarray:
+def grasp_offsets(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     """r_i: each tool point minus the object's centre of mass (the centroid of the tool points), (..., k, 2)."""
     points = _tool_points(robot, q)
     return points - jnp.mean(points, axis=-2, keepdims=True)
@@ -288,10 +300,10 @@ def _kinematic(robot: MobileManipulator, task: Task, held: str | None, q, u_max)
 
 def kinematic_ellipsoid(
     robot: MobileManipulator,
-    q,
+    q: npt.ArrayLike,
     *,
     held: bool = False,
-    platform_scale=1.0,
+    platform_scale: float | npt.ArrayLike = 1.0,
     task: Task | None = None,
     grasp: Grasp = "rigid",
 ) -> Ellipsoid:
@@ -472,10 +484,10 @@ def _exact(terms: _Terms, tau_max: np.ndarray):
 
 
 def dynamic_terms(
-    model,
-    q,
+    model: DynamicModel,
+    q: npt.ArrayLike,
     *,
-    eta=None,
+    eta: npt.ArrayLike | None = None,
     obj: HeldObject | None = None,
     task: Task | None = None,
     interaction: bool = True,
@@ -521,13 +533,13 @@ def dynamic_terms(
 
 
 def dynamic_ellipsoid(
-    model,
-    q,
-    torque_limits: Sequence[float],
+    model: DynamicModel,
+    q: npt.ArrayLike,
+    torque_limits: Sequence[float] | np.ndarray,
     *,
-    eta=None,
+    eta: npt.ArrayLike | None = None,
     obj: HeldObject | None = None,
-    platform_scale=1.0,
+    platform_scale: float | npt.ArrayLike = 1.0,
     method: Method = "paper",
     interaction: bool = True,
     platform_fixed: bool = False,
@@ -572,6 +584,7 @@ def dynamic_ellipsoid(
     if platform_fixed:
         tau_max = tau_max[..., ~is_platform]
     center, matrix, feasible = (_paper if method == "paper" else _exact)(terms, tau_max)
+    names: tuple[str, ...]
     if obj is not None:
         names = POINT_NAMES if grasp == "point" else OBJECT_NAMES
     else:

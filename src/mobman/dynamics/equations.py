@@ -29,11 +29,13 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman import kinematics
 from mobman.batching import across_cores, blocked
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
+from mobman.model.inertial import Wheel
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import Frames
 
@@ -44,7 +46,7 @@ class Body(NamedTuple):
     whether it is the payload."""
 
     mass: float
-    point: jnp.ndarray
+    point: jnp.ndarray | np.ndarray
     rotation: jnp.ndarray
     inertia: np.ndarray
     arm: int | None
@@ -79,7 +81,8 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
         rs, ps = frames.links[i]
         for j, joint in enumerate(arm.joints):
             inertial = joint.inertial
-            point = ps[j] + rs[j] @ np.asarray(inertial.com)
+            assert inertial is not None  # DynamicModel checks that every joint has one
+            point: jnp.ndarray | np.ndarray = ps[j] + rs[j] @ np.asarray(inertial.com)
             result.append(Body(inertial.mass, point, rs[j], inertial.inertia_matrix, i, j))
     payload = model.payload
     if payload is not None:
@@ -106,7 +109,9 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
 def wheel_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
     """Rows a_r, a_l (2 × n_q) with φ̇_r,l = a · q̇ = (ẋ cos θ + ẏ sin θ ± b θ̇)/r (Yamamoto eq. 4–6)."""
     robot = model.robot
-    b, r = robot.platform.half_track, robot.platform.wheel_radius
+    platform = robot.platform
+    assert isinstance(platform, DifferentialDrive)  # only a differential drive has wheel rows
+    b, r = platform.half_track, platform.wheel_radius
     c, s = jnp.cos(q[2]), jnp.sin(q[2])
     rows = [
         jnp.concatenate(
@@ -154,8 +159,9 @@ def body_jacobians(model: DynamicModel, q: jnp.ndarray, payload_mass: float | No
     return BodyJacobians(masses, jnp.concatenate(j_v), jnp.concatenate(j_w), inertia_world)
 
 
-def _has_wheels(model: DynamicModel) -> bool:
-    return isinstance(model.robot.platform, DifferentialDrive) and model.wheel is not None
+def _spinning_wheel(model: DynamicModel) -> Wheel | None:
+    """The wheel whose spin adds kinetic energy (a differential drive's), or None."""
+    return model.wheel if isinstance(model.robot.platform, DifferentialDrive) else None
 
 
 def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
@@ -164,13 +170,16 @@ def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | N
     m = jnp.einsum("b,bin,bim->nm", jac.masses, jac.linear, jac.linear) + jnp.einsum(
         "bin,bij,bjm->nm", jac.angular, jac.inertia, jac.angular
     )
-    if _has_wheels(model):
+    spin = _spinning_wheel(model)
+    if spin is not None:
         a = wheel_rows(model, q)
-        m = m + model.wheel.I_w * a.T @ a
+        m = m + spin.I_w * a.T @ a
     return m
 
 
-def body_forces_one(model: DynamicModel, q, q_dot, q_ddot, payload_mass: float | None = None):
+def body_forces_one(
+    model: DynamicModel, q: jax.Array, q_dot: jax.Array, q_ddot: jax.Array, payload_mass: float | None = None
+) -> tuple[jax.Array, jax.Array]:
     """Generalized force of every body for the motion (q, q̇, q̈), by Newton–Euler and virtual work:
 
         Q_b = m J_vᵀ (a − gravity) + J_ωᵀ (I α + ω × I ω),   a = J_v q̈ + J̇_v q̇,   α = J_ω q̈ + J̇_ω q̇,
@@ -193,11 +202,12 @@ def body_forces_one(model: DynamicModel, q, q_dot, q_ddot, payload_mass: float |
         "bin,bi->bn", jac.angular, moment
     )
     wheel = jnp.zeros_like(q)
-    if _has_wheels(model):
+    spin = _spinning_wheel(model)
+    if spin is not None:
         # T_w = ½ I_w |A(q) q̇|²: Lagrange's d/dt ∂T/∂q̇ − ∂T/∂q on the wheel spins (autodiff of two rows)
         def momentum(x, v):
             a_rows = wheel_rows(model, x)
-            return model.wheel.I_w * a_rows.T @ (a_rows @ v)
+            return spin.I_w * a_rows.T @ (a_rows @ v)
 
         wheel = jax.jvp(momentum, (q, q_dot), (q_dot, q_ddot))[1] - jax.grad(
             lambda x: 0.5 * q_dot @ momentum(x, q_dot)
@@ -205,7 +215,9 @@ def body_forces_one(model: DynamicModel, q, q_dot, q_ddot, payload_mass: float |
     return forces, wheel
 
 
-def generalized_force_one(model: DynamicModel, q, q_dot, q_ddot, payload_mass: float | None = None):
+def generalized_force_one(
+    model: DynamicModel, q: jax.Array, q_dot: jax.Array, q_ddot: jax.Array, payload_mass: float | None = None
+) -> jax.Array:
     """M(q) q̈ + c(q, q̇) + g(q) for one state by Newton–Euler (:func:`body_forces_one`): the inverse dynamics
     of the unconstrained equations, without forming M."""
     forces, wheel = body_forces_one(model, q, q_dot, q_ddot, payload_mass)
@@ -216,10 +228,11 @@ def potential_energy_one(
     model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None
 ) -> jnp.ndarray:
     """V(q) = −Σ m gravityᵀ p_com for one configuration."""
-    gravity = np.asarray(model.gravity)
-    return -sum(
+    gravity = jnp.asarray(model.gravity)
+    terms = [
         body.mass * (gravity @ body.point) for body in bodies(model, model.robot.frames(q), payload_mass)
-    )
+    ]
+    return -sum(terms[1:], terms[0])  # the platform body is always there
 
 
 def gravity_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
@@ -227,7 +240,9 @@ def gravity_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None 
     return jax.grad(partial(potential_energy_one, model, payload_mass=payload_mass))(q)
 
 
-def velocity_terms_one(model: DynamicModel, q, q_dot, payload_mass: float | None = None) -> jnp.ndarray:
+def velocity_terms_one(
+    model: DynamicModel, q: jax.Array, q_dot: jax.Array, payload_mass: float | None = None
+) -> jnp.ndarray:
     """c(q, q̇) = Ṁ q̇ − ∂/∂q (½ q̇ᵀ M(q) q̇) (Lagrange's equations).
 
     Ṁ = (∂M/∂q) q̇ by one forward-mode jvp and the kinetic-energy gradient by reverse mode: directional
@@ -240,12 +255,14 @@ def velocity_terms_one(model: DynamicModel, q, q_dot, payload_mass: float | None
     return m_dot @ q_dot - kinetic_gradient
 
 
-def bias_one(model: DynamicModel, q, q_dot, payload_mass: float | None = None) -> jnp.ndarray:
+def bias_one(
+    model: DynamicModel, q: jax.Array, q_dot: jax.Array, payload_mass: float | None = None
+) -> jnp.ndarray:
     """c(q, q̇) + g(q) for one configuration."""
     return velocity_terms_one(model, q, q_dot, payload_mass) + gravity_one(model, q, payload_mass)
 
 
-def coriolis_matrix_one(model: DynamicModel, q, q_dot) -> jnp.ndarray:
+def coriolis_matrix_one(model: DynamicModel, q: jax.Array, q_dot: jax.Array) -> jnp.ndarray:
     """C_ij = Σ_k Γ_ijk q̇_k with the Christoffel symbols of the first kind of M (jacfwd of M)."""
     dm = jax.jacfwd(partial(mass_matrix_one, model))(q)  # dm[i, j, k] = ∂M_ij/∂q_k
     return 0.5 * (dm @ q_dot + jnp.einsum("ikj,k->ij", dm, q_dot) - jnp.einsum("jki,k->ij", dm, q_dot))
@@ -313,7 +330,7 @@ def _actuation(model, q):
     return blocked(partial(actuation_matrix_one, model))(q)
 
 
-def validated_q(model: DynamicModel, q):
+def validated_q(model: DynamicModel, q: npt.ArrayLike) -> np.ndarray | jax.Array:
     """Configurations of ``model``'s robot checked for shape and finiteness (traced values pass as they are;
     host values go to the compiled functions as NumPy arrays, a ``jax.Array`` stays where it is:
     :func:`mobman.kinematics.validated_q`)."""
@@ -328,17 +345,19 @@ def _q_dot(model: DynamicModel, q_dot, name: str = "q_dot"):
         raise InputError(f"{name}: {exc}") from None
 
 
-def mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
+def mass_matrix(model: DynamicModel, q: npt.ArrayLike) -> jnp.ndarray:
     """M(q), shape (..., n_q, n_q), symmetric positive definite."""
     return _mass(model, validated_q(model, q))
 
 
-def bias(model: DynamicModel, q, q_dot) -> jnp.ndarray:
+def bias(model: DynamicModel, q: npt.ArrayLike, q_dot: npt.ArrayLike) -> jnp.ndarray:
     """c(q, q̇) + g(q), shape (..., n_q)."""
     return _bias(model, validated_q(model, q), _q_dot(model, q_dot))
 
 
-def generalized_force(model: DynamicModel, q, q_dot, q_ddot) -> jnp.ndarray:
+def generalized_force(
+    model: DynamicModel, q: npt.ArrayLike, q_dot: npt.ArrayLike, q_ddot: npt.ArrayLike
+) -> jnp.ndarray:
     """M(q) q̈ + c(q, q̇) + g(q), shape (..., n_q), by Newton–Euler (:func:`body_forces_one`): the
     unconstrained inverse dynamics, equal to ``mass_matrix(q) @ q_ddot + bias(q, q_dot)`` at a fraction of
     the cost."""
@@ -347,27 +366,27 @@ def generalized_force(model: DynamicModel, q, q_dot, q_ddot) -> jnp.ndarray:
     )
 
 
-def gravity_vector(model: DynamicModel, q) -> jnp.ndarray:
+def gravity_vector(model: DynamicModel, q: npt.ArrayLike) -> jnp.ndarray:
     """g(q) = ∂V/∂q, shape (..., n_q)."""
     return _gravity(model, validated_q(model, q))
 
 
-def potential_energy(model: DynamicModel, q) -> jnp.ndarray:
+def potential_energy(model: DynamicModel, q: npt.ArrayLike) -> jnp.ndarray:
     """V(q), shape (...)."""
     return _potential(model, validated_q(model, q))
 
 
-def coriolis_matrix(model: DynamicModel, q, q_dot) -> jnp.ndarray:
+def coriolis_matrix(model: DynamicModel, q: npt.ArrayLike, q_dot: npt.ArrayLike) -> jnp.ndarray:
     """C(q, q̇) (Christoffel form), shape (..., n_q, n_q); c = C q̇ and Ṁ − 2C is skew-symmetric."""
     return _coriolis(model, validated_q(model, q), _q_dot(model, q_dot))
 
 
-def actuation_matrix(model: DynamicModel, q) -> jnp.ndarray:
+def actuation_matrix(model: DynamicModel, q: npt.ArrayLike) -> jnp.ndarray:
     """E(q), shape (..., n_q, n_actuators)."""
     return _actuation(model, validated_q(model, q))
 
 
-def wheel_angle_rates(model: DynamicModel, q, q_dot) -> jnp.ndarray:
+def wheel_angle_rates(model: DynamicModel, q: npt.ArrayLike, q_dot: npt.ArrayLike) -> jnp.ndarray:
     """(θ̇_r, θ̇_l) of a differential drive for (q, q̇): the conversion to Yamamoto's wheel-angle coordinates
     q_v = (x_o, y_o, θ_r, θ_l), whose heading is ϕ = c (θ_r − θ_l), c = r/(2b) (eq. 4)."""
     if not isinstance(model.robot.platform, DifferentialDrive):

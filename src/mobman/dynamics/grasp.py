@@ -17,17 +17,20 @@ that the planar tasks ``Position("xy") + PlanarAngle()`` measure.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman import checks
 from mobman.errors import InputError
 
 
 def _offsets(offsets) -> jnp.ndarray:
+    r: jax.Array | np.ndarray
     if isinstance(offsets, jax.core.Tracer):
         r = offsets
     else:
@@ -53,7 +56,7 @@ def _cross_rows(r: jnp.ndarray) -> jnp.ndarray:
     )
 
 
-def grasp_matrix(offsets) -> jnp.ndarray:
+def grasp_matrix(offsets: npt.ArrayLike) -> jnp.ndarray:
     """Grasp matrix W = [W_1 … W_k] with h_o = W h (eq. 17–19), batched over leading dimensions.
 
     ``offsets``: (..., k, 2) planar or (..., k, 3) spatial grasp-point offsets r_i from the object's centre of
@@ -75,7 +78,7 @@ def grasp_matrix(offsets) -> jnp.ndarray:
     return jnp.moveaxis(blocks, -3, -2).reshape(batch + (m, k * m))
 
 
-def grasp_matrix_rate(offsets, omega) -> jnp.ndarray:
+def grasp_matrix_rate(offsets: npt.ArrayLike, omega: npt.ArrayLike) -> jnp.ndarray:
     """Ẇ for a rigid grasp (eq. 21): the offsets turn with the object, ṙ_i = ω_o × r_i.
 
     ``omega``: the object's angular velocity, (...,) planar (about the vertical) or (..., 3) spatial.
@@ -92,7 +95,7 @@ def grasp_matrix_rate(offsets, omega) -> jnp.ndarray:
     return w_dot
 
 
-def internal_force_basis(w: jnp.ndarray) -> jnp.ndarray:
+def internal_force_basis(w: jnp.ndarray | np.ndarray) -> jnp.ndarray:
     """Orthonormal basis of null(W), shape (..., mk, mk − m): the internal (squeeze) wrenches, which leave the
     object's net wrench unchanged. Assumes W of full row rank, as every W of :func:`grasp_matrix` is."""
     if not isinstance(w, jax.core.Tracer):
@@ -134,7 +137,7 @@ class HeldObject:
         out[3:, 3:] = self.inertia_matrix
         return out
 
-    def bias(self, v_o, gravity=(0.0, 0.0, -9.81)) -> jnp.ndarray:
+    def bias(self, v_o: jax.Array, gravity: Sequence[float] = (0.0, 0.0, -9.81)) -> jnp.ndarray:
         """c_o + g_o of eq. 22 for object velocities ``v_o`` (..., 3) planar or (..., 6) spatial.
 
         c_o = (0, ω × I_o ω) (zero in the plane), g_o = (−m g, 0): the wrench that holds the object against

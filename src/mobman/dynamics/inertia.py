@@ -78,7 +78,9 @@ class DynamicModel:
         return actuator_names(self.robot)
 
     @classmethod
-    def from_urdf(cls, urdf: "UrdfModel", gravity=(0.0, 0.0, -9.81)) -> "DynamicModel":
+    def from_urdf(
+        cls, urdf: "UrdfModel", gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    ) -> "DynamicModel":
         """The model of a robot read by :func:`mobman.io.urdf.read_urdf`: its platform body and wheel spin
         inertia from the URDF's inertials, no payload (ModelError where the URDF gives no platform inertial)."""
         if urdf.body is None:

@@ -36,6 +36,7 @@ from functools import partial
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.batching import blocked
 from mobman.dynamics import equations as eq
@@ -161,7 +162,13 @@ def _capacity(model: DynamicModel, q, eta, eta_dot, coefficients):
     return (tau0, tau1, speed) + _evaluate(tau0, tau1, speed, coefficients)
 
 
-def load_torques(model: DynamicModel, q, eta, eta_dot, payload: Payload | None = None):
+def load_torques(
+    model: DynamicModel,
+    q: npt.ArrayLike,
+    eta: npt.ArrayLike,
+    eta_dot: npt.ArrayLike,
+    payload: Payload | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(τ0, τ1, ω) along the samples: τ = τ0 + m τ1 for a load of m kg (eq. 1) and the actuator speeds
     ω = Bᵀ η; shapes (N, n_actuators). ``payload`` shapes the load (see :func:`unit_payload_model`)."""
     q, eta, eta_dot = _motion(model, q, eta, eta_dot)
@@ -189,7 +196,7 @@ def _motion(model: DynamicModel, q, eta, eta_dot):
     return q, eta, eta_dot
 
 
-def eta_dot_from_samples(t, eta) -> np.ndarray:
+def eta_dot_from_samples(t: npt.ArrayLike, eta: npt.ArrayLike) -> np.ndarray:
     """η̇ from samples η(t_k) by second-order finite differences (``np.gradient``, one-sided at the ends)."""
     t = np.asarray(t, dtype=float)
     eta = np.asarray(eta, dtype=float)
@@ -202,10 +209,10 @@ def eta_dot_from_samples(t, eta) -> np.ndarray:
 
 def max_load(
     model: DynamicModel,
-    t,
-    q,
-    eta,
-    eta_dot,
+    t: npt.ArrayLike,
+    q: npt.ArrayLike,
+    eta: npt.ArrayLike,
+    eta_dot: npt.ArrayLike,
     actuators: Actuator | Sequence[Actuator | None] | Mapping[str, Actuator | None],
     payload: Payload | None = None,
 ) -> LoadCapacity:
@@ -220,20 +227,21 @@ def max_load(
     names = model.actuator_names
     coefficients = envelope_coefficients(actuator_list(names, actuators))
     q, eta, eta_dot = _motion(model, q, eta, eta_dot)
-    t = np.asarray(t, dtype=float)
-    if t.shape != (q.shape[0],) or not np.all(np.isfinite(t)):
-        raise InputError(f"t must hold {q.shape[0]} finite sample times, got shape {t.shape}")
+    times = np.asarray(t, dtype=float)
+    samples = np.shape(q)[0]
+    if times.shape != (samples,) or not np.all(np.isfinite(times)):
+        raise InputError(f"t must hold {samples} finite sample times, got shape {times.shape}")
     unit = unit_payload_model(model, payload)
     out = jax.device_get(_capacity(unit, q, eta, eta_dot, jnp.asarray(coefficients)))
-    return _result(names, t, *out)
+    return _result(names, times, *out)
 
 
 def capacity_from_torques(
     names: Sequence[str],
-    t,
-    tau0,
-    tau1,
-    speed,
+    t: npt.ArrayLike,
+    tau0: npt.ArrayLike,
+    tau1: npt.ArrayLike,
+    speed: npt.ArrayLike,
     actuators: Actuator | Sequence[Actuator | None] | Mapping[str, Actuator | None],
 ) -> LoadCapacity:
     """The maximum allowable load for torques already known to be τ0 + m τ1 (eq. 1), e.g. from
@@ -257,12 +265,12 @@ def _result(names, t, tau0, tau1, speed, lower, upper, load, index, profile, mar
             f"outside its envelope [{lower[k, i]:.6g}, {upper[k, i]:.6g}] (speed {speed[k, i]:.4g}): "
             "the motion is infeasible for these actuators"
         )
-    i = int(np.argmin(load))
-    bounded = bool(np.isfinite(load[i]))
+    limiting = int(np.argmin(load))
+    bounded = bool(np.isfinite(load[limiting]))
     return LoadCapacity(
-        max_load=float(load[i]) if bounded else math.inf,
-        limiting_actuator=names[i] if bounded else None,
-        limiting_time=float(t[index[i]]) if bounded else None,
+        max_load=float(load[limiting]) if bounded else math.inf,
+        limiting_actuator=names[limiting] if bounded else None,
+        limiting_time=float(t[index[limiting]]) if bounded else None,
         names=tuple(names),
         t=t,
         tau0=np.asarray(tau0),

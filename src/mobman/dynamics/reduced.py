@@ -24,6 +24,7 @@ from functools import partial
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.batching import across_cores, blocked
 from mobman.dynamics import equations as eq
@@ -38,24 +39,28 @@ def s_dot_eta(model: DynamicModel, q: jnp.ndarray, eta: jnp.ndarray) -> jnp.ndar
     return s_dot @ eta
 
 
-def reduced_mass_matrix_one(model: DynamicModel, q, payload_mass: float | None = None) -> jnp.ndarray:
+def reduced_mass_matrix_one(
+    model: DynamicModel, q: jax.Array, payload_mass: float | None = None
+) -> jnp.ndarray:
     s = model.robot.S(q)
     return s.T @ eq.mass_matrix_one(model, q, payload_mass) @ s
 
 
-def reduced_bias_one(model: DynamicModel, q, eta, payload_mass: float | None = None) -> jnp.ndarray:
+def reduced_bias_one(
+    model: DynamicModel, q: jax.Array, eta: jax.Array, payload_mass: float | None = None
+) -> jnp.ndarray:
     """b = Sᵀ (M Ṡ η + c + g): the generalized force of the motion q̇ = S η, q̈ = Ṡ η (η̇ = 0), by Newton–Euler
     (:func:`mobman.dynamics.equations.generalized_force_one`; equal to the Lagrange form, see the tests)."""
     s = model.robot.S(q)
     return s.T @ eq.generalized_force_one(model, q, s @ eta, s_dot_eta(model, q, eta), payload_mass)
 
 
-def input_matrix_one(model: DynamicModel, q) -> jnp.ndarray:
+def input_matrix_one(model: DynamicModel, q: jax.Array) -> jnp.ndarray:
     return model.robot.S(q).T @ eq.actuation_matrix_one(model, q)
 
 
 def inverse_dynamics_one(
-    model: DynamicModel, q, eta, eta_dot, payload_mass: float | None = None
+    model: DynamicModel, q: jax.Array, eta: jax.Array, eta_dot: jax.Array, payload_mass: float | None = None
 ) -> jnp.ndarray:
     lhs = reduced_mass_matrix_one(model, q, payload_mass) @ eta_dot + reduced_bias_one(
         model, q, eta, payload_mass
@@ -63,16 +68,18 @@ def inverse_dynamics_one(
     return jnp.linalg.solve(input_matrix_one(model, q), lhs)
 
 
-def forward_dynamics_one(model: DynamicModel, q, eta, tau) -> jnp.ndarray:
+def forward_dynamics_one(model: DynamicModel, q: jax.Array, eta: jax.Array, tau: jax.Array) -> jnp.ndarray:
     rhs = input_matrix_one(model, q) @ tau - reduced_bias_one(model, q, eta)
     return jnp.linalg.solve(reduced_mass_matrix_one(model, q), rhs)
 
 
-def energy_one(model: DynamicModel, q, eta) -> jnp.ndarray:
+def energy_one(model: DynamicModel, q: jax.Array, eta: jax.Array) -> jnp.ndarray:
     return 0.5 * eta @ reduced_mass_matrix_one(model, q) @ eta + eq.potential_energy_one(model, q)
 
 
-def constraint_forces_one(model: DynamicModel, q, eta, eta_dot, tau):
+def constraint_forces_one(
+    model: DynamicModel, q: jax.Array, eta: jax.Array, eta_dot: jax.Array, tau: jax.Array
+) -> tuple[jax.Array, jax.Array]:
     """λ minimising |M q̈ + c + g − E τ − Gᵀ λ| and the residual left (zero when the reduced equations hold)."""
     robot = model.robot
     s = robot.S(q)
@@ -96,7 +103,9 @@ def _reduced_mass(model, q):
     return blocked(partial(reduced_mass_matrix_one, model))(q)
 
 
-def reduced_terms_one(model: DynamicModel, q, eta, payload_mass: float | None = None):
+def reduced_terms_one(
+    model: DynamicModel, q: jax.Array, eta: jax.Array, payload_mass: float | None = None
+) -> tuple[jax.Array, jax.Array, jax.Array]:
     """(P, b, B) for one state: everything the reduced equations need."""
     return (
         reduced_mass_matrix_one(model, q, payload_mass),
@@ -145,7 +154,7 @@ def _constraint_forces(model, q, eta, eta_dot, tau):
     return blocked(partial(constraint_forces_one, model))(q, eta, eta_dot, tau)
 
 
-def validated_eta(model: DynamicModel, value, name: str):
+def validated_eta(model: DynamicModel, value: npt.ArrayLike, name: str) -> np.ndarray | jax.Array:
     """A quasi-velocity-sized array (η, η̇ or τ) checked for shape and finiteness; errors name ``name``
     (traced values pass as they are)."""
     if isinstance(value, jax.core.Tracer):
@@ -153,7 +162,7 @@ def validated_eta(model: DynamicModel, value, name: str):
     on_device = isinstance(value, jax.Array) and any(d.platform != "cpu" for d in value.devices())
     # host values are checked by NumPy in place and passed on as NumPy arrays: an eager jnp test (two
     # dispatches and a device-to-host wait) or a device_put costs more than a one-configuration compiled call
-    arr = value if on_device else np.asarray(value, dtype=float)
+    arr = value if on_device and isinstance(value, jax.Array) else np.asarray(value, dtype=float)
     n = model.robot.n_eta
     if arr.ndim == 0 or arr.shape[-1] != n:
         raise InputError(
@@ -166,44 +175,52 @@ def validated_eta(model: DynamicModel, value, name: str):
     return arr if arr.dtype == jnp.float64 else arr.astype(jnp.float64)
 
 
-def reduced_mass_matrix(model: DynamicModel, q) -> jnp.ndarray:
+def reduced_mass_matrix(model: DynamicModel, q: npt.ArrayLike) -> jnp.ndarray:
     """P(q) = Sᵀ M S, shape (..., n_eta, n_eta) (Yamamoto eq. 15)."""
     return _reduced_mass(model, eq.validated_q(model, q))
 
 
-def reduced_bias(model: DynamicModel, q, eta) -> jnp.ndarray:
+def reduced_bias(model: DynamicModel, q: npt.ArrayLike, eta: npt.ArrayLike) -> jnp.ndarray:
     """b(q, η) = Sᵀ M Ṡ η + Sᵀ (c + g), shape (..., n_eta) (−ξ of Yamamoto eq. 16)."""
     return _bias(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))
 
 
-def input_matrix(model: DynamicModel, q) -> jnp.ndarray:
+def input_matrix(model: DynamicModel, q: npt.ArrayLike) -> jnp.ndarray:
     """B(q) = Sᵀ E, shape (..., n_eta, n_actuators) (Yamamoto's Q, eq. 16)."""
     return _input(model, eq.validated_q(model, q))
 
 
-def inverse_dynamics(model: DynamicModel, q, eta, eta_dot) -> jnp.ndarray:
+def inverse_dynamics(
+    model: DynamicModel, q: npt.ArrayLike, eta: npt.ArrayLike, eta_dot: npt.ArrayLike
+) -> jnp.ndarray:
     """Actuator torques τ = B⁻¹ (P η̇ + b), shape (..., n_actuators); batched over time or configurations."""
     eta_dot = validated_eta(model, eta_dot, "eta_dot")
     return _solve_inverse(*_terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta")), eta_dot)
 
 
-def forward_dynamics(model: DynamicModel, q, eta, tau) -> jnp.ndarray:
+def forward_dynamics(
+    model: DynamicModel, q: npt.ArrayLike, eta: npt.ArrayLike, tau: npt.ArrayLike
+) -> jnp.ndarray:
     """η̇ = P⁻¹ (B τ − b), shape (..., n_eta)."""
     tau = validated_eta(model, tau, "tau")
     return _solve_forward(*_terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta")), tau)
 
 
-def reduced_terms(model: DynamicModel, q, eta):
+def reduced_terms(
+    model: DynamicModel, q: npt.ArrayLike, eta: npt.ArrayLike
+) -> tuple[jax.Array, jax.Array, jax.Array]:
     """(P, b, B) at once (one compiled evaluation), shapes (..., k, k), (..., k), (..., k, a)."""
     return _terms(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))
 
 
-def energy(model: DynamicModel, q, eta) -> jnp.ndarray:
+def energy(model: DynamicModel, q: npt.ArrayLike, eta: npt.ArrayLike) -> jnp.ndarray:
     """Total mechanical energy ½ ηᵀ P η + V(q), shape (...)."""
     return _energy(model, eq.validated_q(model, q), validated_eta(model, eta, "eta"))
 
 
-def constraint_forces(model: DynamicModel, q, eta, eta_dot, tau):
+def constraint_forces(
+    model: DynamicModel, q: npt.ArrayLike, eta: npt.ArrayLike, eta_dot: npt.ArrayLike, tau: npt.ArrayLike
+) -> tuple[jax.Array, jax.Array]:
     """(λ, residual): the constraint multipliers of the full equations M q̈ + c + g = E τ + Gᵀ λ for a motion
     of the reduced equations, and the part of M q̈ + c + g − E τ outside the range of Gᵀ (zero when the
     reduced equations hold: the constraint forces drop out of them exactly)."""

@@ -17,6 +17,7 @@ from typing import Callable
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.dynamics import reduced
 from mobman.dynamics.inertia import DynamicModel
@@ -36,7 +37,7 @@ class SimulationResult:
     tau: np.ndarray
 
 
-def zero_torque(t, q, eta) -> jnp.ndarray:
+def zero_torque(t: jax.Array, q: jax.Array, eta: jax.Array) -> jnp.ndarray:
     """τ = 0 (unforced motion)."""
     return jnp.zeros_like(eta)
 
@@ -78,7 +79,12 @@ def _simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn, steps: int, dt
 
 
 def simulate(
-    model: DynamicModel, q0, eta0, torque_fn: TorqueFn = zero_torque, duration: float = 1.0, dt: float = 1e-3
+    model: DynamicModel,
+    q0: npt.ArrayLike,
+    eta0: npt.ArrayLike,
+    torque_fn: TorqueFn = zero_torque,
+    duration: float = 1.0,
+    dt: float = 1e-3,
 ) -> SimulationResult:
     """Integrate the reduced equations from (q0, η0) for ``duration`` seconds with step ``dt`` (RK4)."""
     if not (np.isfinite(duration) and duration > 0):

@@ -20,6 +20,7 @@ singular configuration of J̄, which the undamped law would cross with unbounded
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -36,7 +37,7 @@ TITLE = "Bayle, Fourquet & Renaud (2003): manipulability-based redundancy resolu
 L1 = 0.6
 L2 = L1 / np.sqrt(2.0)
 
-SETTINGS = {
+SETTINGS: dict[str, Any] = {
     "robot": f"bayle_planar(l1={L1:g}, l2={L2:.4f})",
     "task": "end-effector position (x, y)",
     "q0": [0.0, 0.0, 0.0, -np.pi / 4, np.pi / 2],

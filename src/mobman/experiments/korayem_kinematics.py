@@ -17,6 +17,7 @@ even with the arm stretched) and l0 l1 l2 |sin θ2| for model 2 (singular when t
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -86,7 +87,9 @@ def _unit(a: float) -> np.ndarray:
     return np.array([math.cos(a), math.sin(a)])
 
 
-def model1_configuration(robot: MobileManipulator, x_task, theta0: float = 0.0) -> np.ndarray:
+def model1_configuration(
+    robot: MobileManipulator, x_task: Sequence[float] | np.ndarray, theta0: float = 0.0
+) -> np.ndarray:
     """The configuration (axle midpoint x, y, θ0, θ1, θ2) realising X = (x_e, y_e, α, β) with heading θ0.
 
     θ2 = π − β (eq. 35), θ0 + θ1 = α − θ2, F = EE − l1 u(θ0 + θ1) − l2 u(α) (eq. 25), axle = F − l0 u(θ0)
@@ -102,7 +105,7 @@ def model1_configuration(robot: MobileManipulator, x_task, theta0: float = 0.0) 
 
 
 def model2_configuration(
-    robot: MobileManipulator, x_task, theta0: float = 0.0, elbow: float = 1.0
+    robot: MobileManipulator, x_task: Sequence[float] | np.ndarray, theta0: float = 0.0, elbow: float = 1.0
 ) -> np.ndarray:
     """The configuration realising X = (x_e, y_e, x_f, y_f) with heading θ0 (2R inverse kinematics from F).
 

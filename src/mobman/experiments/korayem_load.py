@@ -17,6 +17,7 @@ arm feels of the platform), the link values do.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -47,7 +48,7 @@ STALL_TORQUE = 63.22
 NO_LOAD_SPEED = 3.5
 """ω_nl (rad/s) of both joint motors (paper)."""
 
-PARAMETERS = {
+PARAMETERS: dict[str, Any] = {
     "l0_m": 0.4,
     "l1_m": 0.5,
     "l2_m": 0.5,

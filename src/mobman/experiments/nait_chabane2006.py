@@ -21,6 +21,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.figure import Figure
 
 from mobman import kinematics as K
@@ -89,6 +90,7 @@ def simulate_strategy(
 ) -> SimulationResult:
     """One strategy in one case: a single run for ``none``, a batch over GAINS (one compiled call) otherwise."""
     which = STRATEGIES[strategy]
+    law: laws.NaitChabane | list[laws.NaitChabane]
     if which is None:
         law = laws.NaitChabane(W=1.0)  # no criterion: u = J̄⁺ Ẋd
     else:
@@ -106,7 +108,7 @@ def simulate_strategy(
     )
 
 
-def graining_times(t, v, threshold: float = V_THRESHOLD) -> np.ndarray:
+def graining_times(t: npt.ArrayLike, v: npt.ArrayLike, threshold: float = V_THRESHOLD) -> np.ndarray:
     """Times at which the platform speed v changes sign (samples with |v| ≤ threshold ignored): the times of
     the graining points counted by :func:`mobman.control.metrics.graining_points`."""
     t, v = np.asarray(t), np.asarray(v)
@@ -212,6 +214,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         chosen: dict[str, SimulationResult] = {}
         for strategy in STRATEGIES:
             result = simulate_strategy(robot, case, strategy, DURATION, dt)
+            runs: list[tuple[float | None, SimulationResult]]
             if STRATEGIES[strategy] is None:
                 runs = [(None, result)]
             else:

@@ -71,7 +71,7 @@ def initial_configuration() -> np.ndarray:
     return z
 
 
-def options(algorithm: str, step, cap: int) -> Options:
+def options(algorithm: str, step: float | str, cap: int) -> Options:
     """γ = 1, tolerance 1e-12; every run carries the extension, so all share one compiled kernel."""
     return Options(algorithm, step, gamma=1.0, tol=TOL, max_iterations=cap, extension=EXTENSION)
 
@@ -94,7 +94,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
         batch = plan_batch(s, z0, q0, TARGET, options(algorithm, step, cap))
         seconds[(algorithm, step)] = time.perf_counter() - begin
         batches[(algorithm, step)] = batch
-        d_end = dexterity(coarse, batch.z, q0)
+        d_end = np.asarray(dexterity(coarse, batch.z, q0))  # one per run of the batch
         for i, name in enumerate(names):
             r = batch.run(s, i)
             runs.append(

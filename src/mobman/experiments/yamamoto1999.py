@@ -17,13 +17,14 @@ summary, numbers}) and ``settings``.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from mobman import kinematics
 from mobman.dynamics import yamamoto_model
-from mobman.dynamics.ellipsoids import Ellipsoid, dynamic_ellipsoid, kinematic_ellipsoid
+from mobman.dynamics.ellipsoids import Ellipsoid, Grasp, dynamic_ellipsoid, kinematic_ellipsoid
 from mobman.dynamics.grasp import HeldObject
 from mobman.experiments.report import Reproduction
 from mobman.io.output import save_figure
@@ -139,11 +140,11 @@ def _split(e: Ellipsoid, index) -> Ellipsoid:
     return Ellipsoid(e.center[index], e.matrix[index], e.names, e.feasible[index])
 
 
-def _ellipses(model, q, speed_scales, torque_scales, grasp: str) -> dict:
+def _ellipses(model, q, speed_scales, torque_scales, grasp: Grasp) -> dict:
     """Fig. 3 and Fig. 4 ellipsoids for one grasp, batched over (angle, scale): one compilation per kind."""
     robot, obj, limits = model.robot, held_object(), torque_limits(model.robot)
-    common = dict(obj=obj, grasp=grasp)
-    paper = dict(method="paper", interaction=False, **common)
+    common: dict[str, Any] = {"obj": obj, "grasp": grasp}
+    paper: dict[str, Any] = {"method": "paper", "interaction": False, **common}
     return {
         "kinematic": kinematic_ellipsoid(robot, q, held=True, grasp=grasp, platform_scale=speed_scales),
         "dynamic": dynamic_ellipsoid(model, q, limits, platform_scale=torque_scales, **paper),
@@ -301,7 +302,7 @@ def _rel(a, b) -> float:
     return float(np.max(np.abs(np.asarray(a) - np.asarray(b)) / np.abs(np.asarray(b))))
 
 
-def _claim(text: str, holds: bool, summary: str, **numbers) -> dict:
+def _claim(text: str, holds: bool | np.bool_, summary: str, **numbers) -> dict:
     return {"claim": text, "holds": bool(holds), "summary": summary, "numbers": numbers}
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 import math
 import operator
+from collections.abc import Callable
 
 import numpy as np
 
@@ -30,8 +31,13 @@ MAX_DEPTH = 20
 MAX_TEXT_LENGTH = 100_000
 """Longest accepted text of a whole vector."""
 
-_BINARY = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv}
-_UNARY = {ast.UAdd: operator.pos, ast.USub: operator.neg}
+_BINARY: dict[type[ast.operator], Callable[[float, float], float]] = {
+    ast.Add: operator.add,
+    ast.Sub: operator.sub,
+    ast.Mult: operator.mul,
+    ast.Div: operator.truediv,
+}
+_UNARY: dict[type[ast.unaryop], Callable[[float], float]] = {ast.UAdd: operator.pos, ast.USub: operator.neg}
 _NAMES = {"pi": math.pi}
 GRAMMAR = "a number or an expression of numbers and pi with + - * / and parentheses"
 
@@ -45,7 +51,11 @@ def _bounded(value: float, field: str, token: str) -> float:
 def _evaluate(node: ast.AST, field: str, token: str, depth: int) -> float:
     if depth > MAX_DEPTH:
         raise InputError(f"{field}: {token!r} is nested deeper than {MAX_DEPTH} levels")
-    if isinstance(node, ast.Constant) and type(node.value) in (int, float):
+    if (
+        isinstance(node, ast.Constant)
+        and isinstance(node.value, (int, float))
+        and not isinstance(node.value, bool)
+    ):
         try:
             return _bounded(float(node.value), field, token)
         except OverflowError:

@@ -12,12 +12,15 @@ import types
 import typing
 from collections.abc import Callable, Collection, Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, TypeVar, overload
 
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError, MobmanError
 from mobman.io.numbers import MAX_MAGNITUDE
+
+T = TypeVar("T")
 
 MAX_FILE_BYTES = 16 * 2**20
 """Largest accepted robot or specification file."""
@@ -83,6 +86,10 @@ def naming(path: Path | str) -> Iterator[None]:
         raise InputError(f"{path}: {exc}") from None
 
 
+@overload
+def table(data: dict, key: str, field: str, required: Literal[True] = True) -> dict: ...
+@overload
+def table(data: dict, key: str, field: str, required: bool) -> dict | None: ...
 def table(data: dict, key: str, field: str, required: bool = True) -> dict | None:
     """The sub-table ``data[key]`` (None when absent and not required)."""
     value = data.get(key)
@@ -173,7 +180,7 @@ def number(entries: dict, key: str, field: str, default: Any = None, positive: b
     return float(value)
 
 
-def array(value, name: str) -> np.ndarray:
+def array(value: object, name: str) -> np.ndarray:
     """A finite float array from a TOML number or (nested, rectangular) list of numbers, each
     |value| ≤ :data:`~mobman.io.numbers.MAX_MAGNITUDE`."""
     pending = [value]
@@ -194,7 +201,7 @@ def array(value, name: str) -> np.ndarray:
         raise InputError(f"{name}: must be a rectangular array of numbers, got {_shown(value)}") from None
 
 
-def build(field: str, factory, /, **kwargs):
+def build(field: str, factory: Callable[..., T], /, **kwargs: Any) -> T:
     """Call a constructor; its ModelError becomes an InputError naming the spec field."""
     try:
         return factory(**kwargs)
@@ -202,10 +209,18 @@ def build(field: str, factory, /, **kwargs):
         raise InputError(f"{field}: {' '.join(str(exc).split())}") from None
 
 
+def _array_like(tp: Any) -> bool:
+    """Whether the annotation ``tp`` is ``numpy.typing.ArrayLike`` (or it or None)."""
+    args = [a for a in typing.get_args(tp) if a is not type(None)]
+    return tp == npt.ArrayLike or (bool(args) and typing.Union[tuple(args)] == npt.ArrayLike)
+
+
 def _converted(value: Any, tp: Any, field: str, key: str, choices: tuple[str, ...], convert: Mapping) -> Any:
     """``value`` (at ``field.key``) read as the annotation ``tp`` (see :func:`dataclass_values`)."""
     origin, args = typing.get_origin(tp), typing.get_args(tp)
     name = f"{field}.{key}" if field else key
+    if _array_like(tp):
+        return array(value, name)
     if origin in (typing.Union, types.UnionType):
         (inner,) = [a for a in args if a is not type(None)]
         return _converted(value, inner, field, key, choices, convert)
@@ -239,6 +254,8 @@ def _readable(tp: Any, convert: Mapping) -> bool:
     """Whether a field annotated ``tp`` can be read from a file (a number, string, bool, array, a tuple of
     those or a type of ``convert``)."""
     origin, args = typing.get_origin(tp), typing.get_args(tp)
+    if _array_like(tp):
+        return True
     if origin in (typing.Union, types.UnionType):
         inner = [a for a in args if a is not type(None)]
         return len(inner) == 1 and _readable(inner[0], convert)

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError
 from mobman.io.output import write_text
@@ -44,8 +45,8 @@ class Motion:
         cls,
         label: str,
         robot: MobileManipulator,
-        t,
-        q,
+        t: npt.ArrayLike,
+        q: npt.ArrayLike,
         factory: Callable[[], MobileManipulator] | None = None,
     ) -> "Motion":
         """The motion of ``robot`` through configurations ``q`` at times ``t``; ``factory``: the function without

@@ -59,7 +59,7 @@ import os
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -155,7 +155,7 @@ class UrdfModel:
 # --- reading ---------------------------------------------------------------------------------------
 
 
-def _parse(path) -> tuple["object", Path]:
+def _parse(path) -> tuple[Any, Path]:
     import yourdfpy
 
     file = Path(path)
@@ -300,8 +300,8 @@ def _lump(parts: list[tuple[float, np.ndarray, np.ndarray]]) -> tuple[float, np.
     (parallel-axis theorem; a part of zero mass adds its inertia only)."""
     if not parts:
         return None
-    mass = sum(m for m, _, _ in parts)
-    com = sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3)
+    mass = float(sum(m for m, _, _ in parts))
+    com = np.asarray(sum(m * c for m, c, _ in parts)) / mass if mass > 0 else np.zeros(3)
     inertia = np.zeros((3, 3))
     for m, c, i in parts:
         d = c - com
@@ -332,7 +332,8 @@ def _color(visual, materials: dict) -> tuple[float, float, float, float]:
         material = materials[material.name]
     if material is None or material.color is None:
         return (0.7, 0.7, 0.75, 1.0)
-    return tuple(float(np.clip(v, 0.0, 1.0)) for v in np.asarray(material.color.rgba).ravel()[:4])
+    r, g, b, a = (float(np.clip(v, 0.0, 1.0)) for v in np.asarray(material.color.rgba).ravel()[:4])
+    return r, g, b, a
 
 
 def _visuals(tree: _Tree, links: list[str], frame, poses, directory: str, materials, missing: list) -> tuple:
@@ -347,7 +348,11 @@ def _visuals(tree: _Tree, links: list[str], frame, poses, directory: str, materi
             if g is None:
                 continue
             origin = inv @ poses[name] @ (np.eye(4) if visual.origin is None else np.asarray(visual.origin))
-            common = dict(origin=tuple(origin.ravel()), rgba=_color(visual, materials), name=name)
+            common: dict[str, Any] = {
+                "origin": tuple(origin.ravel()),
+                "rgba": _color(visual, materials),
+                "name": name,
+            }
             if g.box is not None:
                 shapes.append(Visual("box", size=tuple(np.asarray(g.box.size).ravel()), **common))
             elif g.cylinder is not None:
@@ -393,7 +398,8 @@ def _geometry_radius(link, axle_local: np.ndarray, directory: str) -> float | No
 
                     mesh = trimesh.load(resolved, force="mesh")
                     scale = np.broadcast_to(np.asarray(1.0 if g.mesh.scale is None else g.mesh.scale), 3)
-                    points = (np.asarray(mesh.vertices) * scale) @ rotation.T
+                    # trimesh types load() as returning the base Geometry; force="mesh" gives a Trimesh
+                    points = (np.asarray(mesh.vertices) * scale) @ rotation.T  # type: ignore[attr-defined]
                     across = np.linalg.svd(np.outer(axle_local, axle_local) - np.eye(3))[0][:, :2]
                     extent = np.ptp(points @ across, axis=0)  # the mesh's widths across the axle
                     return float(np.mean(extent) / 2)
@@ -413,7 +419,7 @@ def _wheel_pair(tree, candidates, wheels, poses, base_pose):
         (pa, axa), (pb, axb) = geometry(a), geometry(b)
         d = pb - pa
         separation = np.linalg.norm(d)
-        return (
+        return bool(
             separation > _AXLE_TOL
             and abs(abs(axa @ axb) - 1.0) < _AXLE_TOL
             and abs(abs(d @ axa) / separation - 1.0) < _AXLE_TOL
@@ -470,7 +476,7 @@ def _spin_inertia(tree, joint, poses) -> float:
 
 
 def read_urdf(
-    path,
+    path: str | os.PathLike[str],
     tip: str | Sequence[str] = "arm_tool_link",
     base: str = "base_footprint",
     platform: str = "auto",
@@ -593,7 +599,7 @@ def read_urdf(
     for i, (t, joints) in enumerate(zip(tips, paths)):
         chain_names = {j.name for j in chains[i]}
         acc = np.linalg.inv(platform_pose) @ base_pose
-        arm_joints = []
+        arm_joints: list[Joint] = []
         for j in joints:
             if j.name not in chain_names:
                 acc = acc @ _origin(j)
@@ -637,7 +643,7 @@ def read_urdf(
     )
     body, wheel = _platform_inertials(tree, platform_links, platform_pose, poses, wheel_pair)
     efforts: list[float | None] = []
-    if isinstance(platform_model, DifferentialDrive):
+    if isinstance(platform_model, DifferentialDrive) and wheel_pair is not None:
         efforts += [None if j.limit is None else _limit(j.limit.effort) for j in wheel_pair]
     else:
         efforts += [None] * platform_model.n_eta
@@ -692,7 +698,7 @@ def _platform_inertials(tree, links, platform_pose, poses, wheel_pair):
 
 
 def load_urdf(
-    path,
+    path: str | os.PathLike[str],
     tip: str | Sequence[str] = "arm_tool_link",
     base: str = "base_footprint",
     platform: str = "auto",
@@ -709,7 +715,7 @@ def load_urdf(
     return read_urdf(path, tip, base, platform, wheels, wheel_radius, half_track, name, locked).robot
 
 
-def inspect_urdf(path, **options) -> UrdfSummary:
+def inspect_urdf(path: str | os.PathLike[str], **options: Any) -> UrdfSummary:
     """What :func:`read_urdf` keeps and leaves out of a URDF file (chains, wheels, passive joints)."""
     return read_urdf(path, **options).summary
 
@@ -820,7 +826,10 @@ def _limit_value(value: float):
 
 
 def write_urdf(
-    robot: MobileManipulator, path, body: PlatformBody | None = None, wheel: Wheel | None = None
+    robot: MobileManipulator,
+    path: str | os.PathLike[str],
+    body: PlatformBody | None = None,
+    wheel: Wheel | None = None,
 ) -> Path:
     """Write a robot as URDF, with its platform ``body`` and driving ``wheel`` inertials where given (those of
     a :class:`mobman.dynamics.DynamicModel`: ``write_urdf(model.robot, path, model.body, model.wheel)``).

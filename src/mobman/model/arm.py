@@ -93,7 +93,9 @@ class Joint:
             raise ModelError(f"Joint {self.name!r}: effort_max must be > 0, got {self.effort_max!r}")
         object.__setattr__(self, "visuals", tuple(self.visuals))
 
-    def pose_after(self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray):
+    def pose_after(
+        self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
         """World pose (R, p) of the joint frame, from its parent frame's world pose and the joint's motion
         variable q (batched): ``origin`` (R_o, p_o) then the motion by v = q + offset.
 
@@ -166,8 +168,8 @@ class Arm:
 
     @property
     def velocity_limits(self) -> tuple[float, ...] | None:
-        limits = tuple(j.velocity_max for j in self.joints)
-        return None if any(v is None for v in limits) else limits
+        limits = tuple(j.velocity_max for j in self.joints if j.velocity_max is not None)
+        return limits if len(limits) == len(self.joints) else None
 
     @property
     def position_limits(self) -> tuple[tuple[float, float], ...]:
@@ -179,7 +181,9 @@ class Arm:
             return q_a
         return spatial.matvec(self.coupling_matrix, q_a)
 
-    def link_poses(self, q_a: jnp.ndarray, base=None) -> tuple[jnp.ndarray, jnp.ndarray]:
+    def link_poses(
+        self, q_a: jnp.ndarray, base: tuple[jnp.ndarray, jnp.ndarray] | None = None
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
         """Poses (R, p) of every joint frame after its motion, then the tool frame.
 
         Returns R of shape (..., n_joints + 1, 3, 3) and p of shape (..., n_joints + 1, 3), expressed in the
@@ -266,7 +270,7 @@ class Arm:
         return cls(tuple(joints), tool, _coupling(coupling), name)
 
 
-def _table(table, label: str) -> list[tuple[float, float, float, float]]:
+def _table(table, label: str) -> list[tuple[float, ...]]:
     rows = [tuple(float(v) for v in row) for row in table]
     if not rows or any(len(r) != 4 for r in rows):
         raise ModelError(f"{label} table: each row needs 4 numbers")

@@ -140,16 +140,16 @@ class DifferentialDrive(Platform):
         if self.wheel_speed_max is not None:
             v = self.wheel_radius * self.wheel_speed_max
             return (v, v / self.half_track)
-        if self.v_max is not None:
+        if self.v_max is not None and self.omega_max is not None:
             return (float(self.v_max), float(self.omega_max))
         return None
 
-    def S(self, q_p):
+    def S(self, q_p: jnp.ndarray) -> jnp.ndarray:
         c, s = jnp.cos(q_p[2]), jnp.sin(q_p[2])
         zero, one = jnp.zeros_like(c), jnp.ones_like(c)
         return jnp.stack([jnp.stack([c, zero]), jnp.stack([s, zero]), jnp.stack([zero, one])])
 
-    def constraints(self, q_p):
+    def constraints(self, q_p: jnp.ndarray) -> jnp.ndarray:
         c, s = jnp.cos(q_p[2]), jnp.sin(q_p[2])
         return jnp.stack([s, -c, jnp.zeros_like(c)])[None, :]
 
@@ -158,11 +158,11 @@ class DifferentialDrive(Platform):
         r, b = self.wheel_radius, self.half_track
         return np.array([[r / 2, r / 2], [r / (2 * b), -r / (2 * b)]])
 
-    def wheel_speeds_to_eta(self, wheel_speeds):
+    def wheel_speeds_to_eta(self, wheel_speeds: jnp.ndarray) -> jnp.ndarray:
         """(φ̇_right, φ̇_left) → (v, ω); batched over leading dimensions."""
         return jnp.asarray(wheel_speeds) @ self.wheel_matrix().T
 
-    def eta_to_wheel_speeds(self, eta):
+    def eta_to_wheel_speeds(self, eta: jnp.ndarray) -> jnp.ndarray:
         """(v, ω) → (φ̇_right, φ̇_left) = ((v + bω)/r, (v − bω)/r); batched."""
         return jnp.asarray(eta) @ np.linalg.inv(self.wheel_matrix()).T
 
@@ -193,9 +193,11 @@ class CarLike(Platform):
 
     @property
     def velocity_limits(self) -> tuple[float, ...] | None:
-        return None if self.u1_max is None else (float(self.u1_max), float(self.u2_max))
+        if self.u1_max is None or self.u2_max is None:
+            return None
+        return (float(self.u1_max), float(self.u2_max))
 
-    def S(self, q_p):
+    def S(self, q_p: jnp.ndarray) -> jnp.ndarray:
         ct, st = jnp.cos(q_p[2]), jnp.sin(q_p[2])
         cp, sp = jnp.cos(q_p[3]), jnp.sin(q_p[3])
         zero, one = jnp.zeros_like(ct), jnp.ones_like(ct)
@@ -208,7 +210,7 @@ class CarLike(Platform):
             ]
         )
 
-    def constraints(self, q_p):
+    def constraints(self, q_p: jnp.ndarray) -> jnp.ndarray:
         theta, phi = q_p[2], q_p[3]
         zero = jnp.zeros_like(theta)
         rear = jnp.stack([jnp.sin(theta), -jnp.cos(theta), zero, zero])
@@ -232,8 +234,8 @@ class Omnidirectional(Platform):
     def velocity_limits(self) -> tuple[float, ...] | None:
         return self.limits
 
-    def S(self, q_p):
+    def S(self, q_p: jnp.ndarray) -> jnp.ndarray:
         return jnp.eye(3, dtype=jnp.result_type(q_p, float))
 
-    def constraints(self, q_p):
+    def constraints(self, q_p: jnp.ndarray) -> jnp.ndarray:
         return jnp.zeros((0, 3), dtype=jnp.result_type(q_p, float))

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
@@ -78,9 +79,18 @@ class Frames:
     """per arm: R (n_joints + 1, 3, 3) and p (n_joints + 1, 3); the last entry is the tool frame."""
 
 
+def _first_tool_position() -> Task:
+    """The default operational task: the first arm's tool position."""
+    from mobman.model.tasks import Position
+
+    return Position()
+
+
 @dataclass(frozen=True)
 class MobileManipulator:
     """Platform + mounts + arms, with an operational task ξ = f(q) (default: first arm's tool position).
+
+    ``mounts`` left empty puts every arm base at the platform frame's origin (one ``Mount()`` per arm).
 
     ``platform_visuals`` are the shapes of the platform body in the platform frame (for drawing only: they
     take no part in equality or hashing); each arm joint carries the shapes of its own link.
@@ -88,8 +98,8 @@ class MobileManipulator:
 
     platform: Platform
     arms: tuple[Arm, ...]
-    mounts: tuple[Mount, ...] | None = None
-    task: "Task | None" = None
+    mounts: tuple[Mount, ...] = ()
+    task: Task = field(default_factory=_first_tool_position)
     name: str = "mobile-manipulator"
     parameters: tuple[tuple[str, float], ...] = field(default=(), compare=True)
     platform_visuals: tuple[Visual, ...] = field(default=(), compare=False)
@@ -98,7 +108,7 @@ class MobileManipulator:
         arms = (self.arms,) if isinstance(self.arms, Arm) else tuple(self.arms)
         if not arms:
             raise ModelError(f"{self.name}: a mobile manipulator needs at least one arm")
-        mounts = tuple(Mount() for _ in arms) if self.mounts is None else self.mounts
+        mounts = tuple(Mount() for _ in arms) if self.mounts in (None, ()) else self.mounts
         mounts = (mounts,) if isinstance(mounts, Mount) else tuple(mounts)
         if len(mounts) != len(arms):
             raise ModelError(f"{self.name}: {len(mounts)} mounts given for {len(arms)} arms")
@@ -107,9 +117,7 @@ class MobileManipulator:
         object.__setattr__(self, "parameters", tuple((str(k), float(v)) for k, v in self.parameters))
         object.__setattr__(self, "platform_visuals", tuple(self.platform_visuals))
         if self.task is None:
-            from mobman.model.tasks import Position
-
-            object.__setattr__(self, "task", Position())
+            object.__setattr__(self, "task", _first_tool_position())
 
     def __hash__(self) -> int:
         # The robot is a static argument of compiled functions and is hashed on every call: hash the nested
@@ -170,11 +178,9 @@ class MobileManipulator:
     @property
     def velocity_limits(self) -> tuple[float, ...] | None:
         """Maximum |η_i| for every quasi-velocity, or None if any is unknown."""
-        platform = self.platform.velocity_limits
-        arms = [a.velocity_limits for a in self.arms]
-        if platform is None or any(a is None for a in arms):
-            return None
-        return tuple(platform) + tuple(v for a in arms for v in a)
+        limits = [self.platform.velocity_limits] + [a.velocity_limits for a in self.arms]
+        known = [v for v in limits if v is not None]
+        return tuple(v for part in known for v in part) if len(known) == len(limits) else None
 
     @property
     def position_limits(self) -> tuple[tuple[float, float], ...]:
@@ -183,7 +189,7 @@ class MobileManipulator:
             lim for a in self.arms for lim in a.position_limits
         )
 
-    def limit_violations(self, q) -> np.ndarray:
+    def limit_violations(self, q: npt.ArrayLike) -> np.ndarray:
         """Which coordinates of configurations q (..., n_q) lie outside :attr:`position_limits` (a joint's
         [lower, upper]), boolean (..., n_q); ``.any(-1)`` flags each configuration."""
         q = self.validate_q(q)
@@ -209,7 +215,7 @@ class MobileManipulator:
         arms = self.arms[:arm] + (replace(chain, joints=joints),) + self.arms[arm + 1 :]
         return replace(self, arms=arms)
 
-    def validate_q(self, q) -> np.ndarray:
+    def validate_q(self, q: npt.ArrayLike) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values. Returns float64 NumPy."""
         try:
             arr = np.asarray(q, dtype=float)
@@ -269,7 +275,7 @@ class MobileManipulator:
         g_p = self.platform.constraints(q[: self.platform.n_q])
         return jnp.concatenate([g_p, jnp.zeros((g_p.shape[0], self.n_q - self.platform.n_q), g_p.dtype)], 1)
 
-    def frames(self, q: jnp.ndarray) -> Frames:
+    def frames(self, q: jnp.ndarray | np.ndarray) -> Frames:
         """World poses of the platform, mounts and every arm frame at one configuration."""
         # one split of q (not a slice per use): its reverse-mode transpose is one concatenation
         n_p = self.platform.n_q
@@ -291,7 +297,7 @@ class MobileManipulator:
         arm: int | None,
         upto: int,
         coupled: bool = True,
-    ):
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
         """Linear (3 × n_q) and angular (3 × n_q) velocity Jacobians of a point rigidly attached to
         frame ``upto`` of arm ``arm`` (only joints ≤ upto move it; ``arm=None``: attached to the platform).
 
@@ -329,8 +335,8 @@ class MobileManipulator:
             ang_cols = jnp.where(moves[:, None], ang_cols, 0.0).T
             j_lin.append(lin_cols)
             j_ang.append(ang_cols)
-        lin, ang = jnp.concatenate(j_lin, axis=1), jnp.concatenate(j_ang, axis=1)
-        return (self.couple(lin), self.couple(ang)) if coupled else (lin, ang)
+        linear, angular = jnp.concatenate(j_lin, axis=1), jnp.concatenate(j_ang, axis=1)
+        return (self.couple(linear), self.couple(angular)) if coupled else (linear, angular)
 
     @cached_property
     def _coupled(self) -> bool:
@@ -373,7 +379,7 @@ def actuator_names(robot: MobileManipulator) -> tuple[str, ...]:
     """The actuators of a robot in τ order: both wheels of a differential drive (or one per platform
     quasi-velocity), then the arm joints."""
     if isinstance(robot.platform, DifferentialDrive):
-        platform = ("wheel_right", "wheel_left")
+        platform: tuple[str, ...] = ("wheel_right", "wheel_left")
     else:
         platform = tuple(f"platform_{n}" for n in robot.platform.control_names)
     return platform + tuple(robot.coordinate_names[robot.n_platform :])

@@ -10,7 +10,7 @@ registers them here (:func:`register`) when :mod:`mobman.io` is imported.
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable, Sequence
 
 from mobman import checks
 from mobman.errors import ModelError
@@ -45,7 +45,13 @@ def _translation(x: float = 0.0, y: float = 0.0, z: float = 0.0):
     return spatial.transform(None, (x, y, z))
 
 
-def planar_arm(lengths, names=None, velocity_max=None, inertials=None, name="arm") -> Arm:
+def planar_arm(
+    lengths: Sequence[float],
+    names: Sequence[str] | None = None,
+    velocity_max: Sequence[float] | None = None,
+    inertials: Sequence[LinkInertial | None] | None = None,
+    name: str = "arm",
+) -> Arm:
     """A horizontal planar arm: revolute joints about the vertical axis, links along x."""
     joints = []
     for i, _ in enumerate(lengths):

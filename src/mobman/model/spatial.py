@@ -15,6 +15,7 @@ from typing import Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import ModelError
 
@@ -91,12 +92,12 @@ def matmul_expanded(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     return sum(terms[1:], terms[0])
 
 
-def matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:
+def matvec(a: jnp.ndarray | np.ndarray, v: jnp.ndarray | np.ndarray) -> jnp.ndarray:
     """a @ v for stacks of small matrices and vectors."""
     return jnp.sum(a * v[..., None, :], axis=-1)
 
 
-def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float]) -> jnp.ndarray | None:
+def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float] | np.ndarray) -> jnp.ndarray | None:
     """Σ_k w_k v_k for constant weights, written out over the nonzero ones (±1 without a product); None
     when every weight is zero. With the weights as Python scalars XLA emits no constant array and no
     product by zero: the structural zeros of a robot's fixed transforms cost nothing."""
@@ -106,7 +107,7 @@ def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float]) -> jnp.nda
     return None if not terms else sum(terms[1:], terms[0])
 
 
-def matvec_constant(a: jnp.ndarray, v: np.ndarray) -> jnp.ndarray:
+def matvec_constant(a: jnp.ndarray, v: npt.ArrayLike) -> jnp.ndarray:
     """a @ v for stacks of matrices a and a constant NumPy vector v (see :func:`combine`)."""
     out = combine(unstack(a), np.asarray(v, dtype=float))
     return jnp.zeros(a.shape[:-1], a.dtype) if out is None else out
@@ -142,7 +143,9 @@ def cross(a: jnp.ndarray, b: jnp.ndarray, axis: int = -1) -> jnp.ndarray:
     return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=axis)
 
 
-def compose_fixed_pose(pose: tuple[jnp.ndarray, jnp.ndarray], t: Transform):
+def compose_fixed_pose(
+    pose: tuple[jnp.ndarray, jnp.ndarray], t: Transform
+) -> tuple[jnp.ndarray, jnp.ndarray]:
     """(R, p) ∘ T for a stored fixed transform T = (R_t, p_t): (R R_t, R p_t + p), its constant entries as
     scalars (:func:`combine`)."""
     r, p = pose
@@ -156,7 +159,7 @@ def fixed_pose(t: Transform) -> tuple[np.ndarray, np.ndarray]:
     return m[:3, :3], m[:3, 3]
 
 
-def planar_pose(x: jnp.ndarray, y: jnp.ndarray, theta: jnp.ndarray):
+def planar_pose(x: jnp.ndarray, y: jnp.ndarray, theta: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
     """(R, p) of a frame at (x, y, 0) rotated by theta about the vertical axis."""
     c, s = jnp.cos(theta), jnp.sin(theta)
     zero, one = jnp.zeros_like(c), jnp.ones_like(c)

@@ -23,6 +23,7 @@ from typing import Callable, NamedTuple
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import ConvergenceError, InputError
 from mobman.model.tasks import Task
@@ -192,7 +193,16 @@ def _line_search(setting, z, q0, y_d, e, J, d):
 
 @partial(jax.jit, static_argnums=(0, 1))
 def solve_loop(
-    setting: PlanningSetting, kernel: Kernel, z0, q0, y_d, algorithm, adaptive, step, gamma, tol
+    setting: PlanningSetting,
+    kernel: Kernel,
+    z0: jax.Array,
+    q0: jax.Array,
+    y_d: jax.Array,
+    algorithm: jax.Array,
+    adaptive: jax.Array,
+    step: jax.Array,
+    gamma: jax.Array,
+    tol: jax.Array,
 ) -> Plan:
     """The compiled loop (see :meth:`Options.arguments` for the traced arguments)."""
     size = kernel.max_iterations + 1
@@ -234,7 +244,9 @@ def solve_loop(
     return Plan(z, status, k, errors, thetas)
 
 
-def solve(setting: PlanningSetting, options: Options, z0, q0, y_d) -> Plan:
+def solve(
+    setting: PlanningSetting, options: Options, z0: npt.ArrayLike, q0: npt.ArrayLike, y_d: npt.ArrayLike
+) -> Plan:
     """Run one algorithm from z0 (the compiled kernel behind :func:`plan`; arrays in, :class:`Plan` out).
 
     The algorithm, the step mode, Δθ, γ and the tolerance are traced arguments: changing them does not
@@ -288,7 +300,12 @@ def to_result(setting: PlanningSetting, result: Plan) -> PlanResult:
 
 
 def plan(
-    setting: PlanningSetting, z0, q0, y_d, options: Options = Options(), raise_on_failure: bool = False
+    setting: PlanningSetting,
+    z0: npt.ArrayLike,
+    q0: npt.ArrayLike,
+    y_d: npt.ArrayLike,
+    options: Options = Options(),
+    raise_on_failure: bool = False,
 ) -> PlanResult:
     """Solve K_{q0,T}(z) = y_d (eq. 4) from z0; non-convergence is a result (status) unless raise_on_failure.
 
@@ -314,7 +331,9 @@ def plan(
     return result
 
 
-def check_sizes(setting: PlanningSetting, z0, q0, y_d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def check_sizes(
+    setting: PlanningSetting, z0: npt.ArrayLike, q0: npt.ArrayLike, y_d: npt.ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """z0, q0, y_d as float arrays with the setting's sizes on their last axis and finite values (InputError
     naming the argument otherwise)."""
     checks = (
@@ -333,7 +352,8 @@ def check_sizes(setting: PlanningSetting, z0, q0, y_d) -> tuple[np.ndarray, np.n
             raise InputError(f"{name}: expected {size} values, got {value.shape[-1] if value.ndim else 1}")
         if not np.all(np.isfinite(value)):
             raise InputError(f"{name}: values must be finite")
-    return tuple(arrays)
+    z, q, y = arrays
+    return z, q, y
 
 
 def dexterity_gradient(setting: PlanningSetting, gain: float = 1.0) -> Callable:

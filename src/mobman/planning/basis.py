@@ -56,7 +56,7 @@ class Fourier(Basis):
     def size(self) -> int:
         return 1 + 2 * self.harmonics
 
-    def values(self, t, horizon, within=None):
+    def values(self, t: jnp.ndarray, horizon: float, within: jnp.ndarray | None = None) -> jnp.ndarray:
         k = jnp.arange(1, self.harmonics + 1)
         phase = 2.0 * jnp.pi * k * t / horizon
         pairs = jnp.stack([jnp.sin(phase), jnp.cos(phase)], axis=-1).reshape(-1)
@@ -81,7 +81,7 @@ class PiecewiseConstant(Basis):
     def pieces(self) -> int:
         return self.count
 
-    def values(self, t, horizon, within=None):
+    def values(self, t: jnp.ndarray, horizon: float, within: jnp.ndarray | None = None) -> jnp.ndarray:
         width = horizon / self.count
         index = jnp.clip(jnp.floor((t if within is None else within) / width), 0, self.count - 1)
         return jnp.where(jnp.arange(self.count) == index, 1.0 / jnp.sqrt(width), 0.0)

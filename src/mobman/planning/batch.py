@@ -8,6 +8,7 @@ from functools import partial
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError
 from mobman.planning.algorithms import STATUS, Options, PlanResult, check_sizes, solve_loop
@@ -55,7 +56,13 @@ def _solve_batch(setting, kernel, z0, q0, y_d, *arguments):
     return jax.vmap(lambda z, q, y: solve_loop(setting, kernel, z, q, y, *arguments))(z0, q0, y_d)
 
 
-def plan_batch(setting: PlanningSetting, z0, q0, y_d, options: Options = Options()) -> BatchResult:
+def plan_batch(
+    setting: PlanningSetting,
+    z0: npt.ArrayLike,
+    q0: npt.ArrayLike,
+    y_d: npt.ArrayLike,
+    options: Options = Options(),
+) -> BatchResult:
     """Solve K_{q0,T}(z) = y_d for a batch: z0 (B, n_z), q0 (B, n_p), y_d (B, r), or any of them unbatched
     (broadcast). One compiled, vectorised call; the loop runs until every problem has stopped."""
     names = ("z0", "q0", "y_d")

@@ -25,11 +25,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import NamedTuple
+from typing import NamedTuple, TypeVar
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
@@ -37,6 +38,8 @@ from mobman.model.spatial import matmul, matvec
 from mobman.model.tasks import Task
 from mobman.planning import integrators
 from mobman.planning.basis import Basis, Fourier
+
+_Array = TypeVar("_Array", jax.Array, np.ndarray)
 
 DEFAULT_METHOD = "dop853"
 DEFAULT_STEPS = 100
@@ -109,7 +112,7 @@ class PlanningSetting:
         """Dimension of the endogenous configuration z = (vec Λ, x)."""
         return self.n_controls * self.basis.size + self.n_joints
 
-    def split(self, z: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]:
+    def split(self, z: _Array) -> tuple[_Array, _Array]:
         """z → (Λ of shape (m, N), x)."""
         n = self.n_controls * self.basis.size
         return z[:n].reshape(self.n_controls, self.basis.size), z[n:]
@@ -194,7 +197,7 @@ def _velocity(setting: PlanningSetting, q: jnp.ndarray, u: jnp.ndarray) -> jnp.n
     return matvec(setting.robot.platform.S(q), u)
 
 
-def endpoint_of_task(setting: PlanningSetting, task: Task, z, q0) -> jnp.ndarray:
+def endpoint_of_task(setting: PlanningSetting, task: Task, z: jax.Array, q0: jax.Array) -> jnp.ndarray:
     """K_{q0,T}(z) (Tchoń et al. 2002, eq. 3) for any output ``task``, one configuration, traceable."""
     lam, x = setting.split(z)
     q_T, _ = _integrate(setting, lambda q, phi: _velocity(setting, q, _control(lam, phi)), q0)
@@ -206,7 +209,7 @@ def _endpoint(setting, z, q0):
     return endpoint_of_task(setting, setting.output, z, q0)
 
 
-def endpoint(setting: PlanningSetting, z, q0) -> jnp.ndarray:
+def endpoint(setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike) -> jnp.ndarray:
     """K_{q0,T}(z) = k(q_p(T), x) (eq. 3), shape (..., r) for z of shape (..., n_z) and q0 (..., n_p)."""
     return _batch(_endpoint, setting, z, q0, "(r)")
 
@@ -220,14 +223,18 @@ def _trajectory(setting, z, q0):
     return q_p, y
 
 
-def trajectory(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def trajectory(
+    setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Times t_k, platform states q_p(t_k) and task values k(q_p(t_k), x) on the integration grid (for
     plotting)."""
     q_p, y = _trajectory(setting, jnp.asarray(z, float), jnp.asarray(q0, float))
     return np.linspace(0.0, setting.horizon, setting.steps + 1), np.asarray(q_p), np.asarray(y)
 
 
-def configuration_path(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.ndarray]:
+def configuration_path(
+    setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike
+) -> tuple[np.ndarray, np.ndarray]:
     """Times t_k and whole configurations q(t_k) = (q_p(t_k), x) of the planned motion (the arm's joints held
     at x, Tchoń et al. §2), on the integration grid."""
     t, q_p, _ = trajectory(setting, z, q0)
@@ -235,7 +242,9 @@ def configuration_path(setting: PlanningSetting, z, q0) -> tuple[np.ndarray, np.
     return t, np.concatenate([q_p, np.broadcast_to(np.asarray(x), (len(t), setting.n_joints))], axis=1)
 
 
-def variational_of_task(setting: PlanningSetting, task: Task, z, q0, with_mobility: bool) -> Variational:
+def variational_of_task(
+    setting: PlanningSetting, task: Task, z: jax.Array, q0: jax.Array, with_mobility: bool
+) -> Variational:
     """Endpoint, Jacobian (Tchoń et al. 2002, eqs. 5–8) and optionally 𝓜 for any output ``task``, traceable."""
     lam, x = setting.split(z)
     n_p = q0.shape[0]
@@ -262,7 +271,9 @@ def _variational_jit(setting, z, q0, with_mobility):
     return variational_of_task(setting, setting.output, z, q0, with_mobility)
 
 
-def variational(setting: PlanningSetting, z, q0, with_mobility: bool = True) -> Variational:
+def variational(
+    setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike, with_mobility: bool = True
+) -> Variational:
     """Endpoint, Jacobian (eqs. 5–8) and, if asked, the mobility matrix 𝓜 from the variational system."""
     return _variational_jit(setting, jnp.asarray(z, float), jnp.asarray(q0, float), with_mobility)
 
@@ -272,7 +283,9 @@ def _autodiff_jacobian(setting, z, q0):
     return jax.jacfwd(_endpoint, argnums=1)(setting, z, q0)
 
 
-def endpoint_jacobian(setting: PlanningSetting, z, q0, method: str = "variational") -> jnp.ndarray:
+def endpoint_jacobian(
+    setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike, method: str = "variational"
+) -> jnp.ndarray:
     """Analytic Jacobian J_{q0,T}(z), shape (r, n_z): ``"variational"`` (eqs. 5–8) or ``"autodiff"``."""
     z, q0 = jnp.asarray(z, float), jnp.asarray(q0, float)
     if method == "variational":
@@ -289,24 +302,32 @@ def _extended_jacobian(setting, extension, z, q0):
     return jnp.concatenate([v.J, output_jacobian(setting, extension, v.q_T, v.Xi, x)])
 
 
-def extended_jacobian(setting: PlanningSetting, extension: Task, z, q0) -> jnp.ndarray:
+def extended_jacobian(
+    setting: PlanningSetting, extension: Task, z: npt.ArrayLike, q0: npt.ArrayLike
+) -> jnp.ndarray:
     """Extended Jacobian J^E = [J; J̄] (eq. 19), shape (r + s, n_z): the rows of the output, then those of the
     output extension h (a task of dimension s), at z and the start q0."""
     return _extended_jacobian(setting, extension, jnp.asarray(z, float), jnp.asarray(q0, float))
 
 
-def mobility_matrix(setting: PlanningSetting, z, q0) -> jnp.ndarray:
+def mobility_matrix(setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike) -> jnp.ndarray:
     """Mobility matrix 𝓜_{q0,T}(u) of the platform: the state reachability Gramian over all of L²[0, T]."""
-    return variational(setting, z, q0).mobility
+    mobility = variational(setting, z, q0).mobility
+    assert mobility is not None  # computed: with_mobility is True
+    return mobility
 
 
 @partial(jax.jit, static_argnums=(0, 3))
 def _dexterity_matrix(setting, z, q0, parametric):
     v = variational_of_task(setting, setting.output, z, q0, not parametric)
-    return v.J @ v.J.T if parametric else v.C @ v.mobility @ v.C.T + v.D @ v.D.T
+    if v.mobility is None:
+        return v.J @ v.J.T
+    return v.C @ v.mobility @ v.C.T + v.D @ v.D.T
 
 
-def dexterity_matrix(setting: PlanningSetting, z, q0, parametric: bool = False) -> jnp.ndarray:
+def dexterity_matrix(
+    setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike, parametric: bool = False
+) -> jnp.ndarray:
     """Dexterity matrix, shape (..., r, r) for batches of z and q0.
 
     parametric=False: the paper's 𝒟 = C𝓜Cᵀ + DDᵀ (eq. 11), controls ranging over all of L²[0, T];
@@ -317,7 +338,9 @@ def dexterity_matrix(setting: PlanningSetting, z, q0, parametric: bool = False) 
     return _batch(lambda s, zz, qq: _dexterity_matrix(s, zz, qq, parametric), setting, z, q0, "(r,r)")
 
 
-def dexterity(setting: PlanningSetting, z, q0, parametric: bool = False) -> np.ndarray:
+def dexterity(
+    setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike, parametric: bool = False
+) -> float | np.ndarray:
     """Dexterity d = √det 𝒟 (eq. 12) (parametric=True: √det(J Jᵀ)); positive iff the configuration is regular.
 
     A float for one configuration, an array for a batch.
@@ -327,7 +350,7 @@ def dexterity(setting: PlanningSetting, z, q0, parametric: bool = False) -> np.n
     return float(d) if d.ndim == 0 else d
 
 
-def is_regular(setting: PlanningSetting, z, q0, rtol: float = 1e-10) -> bool:
+def is_regular(setting: PlanningSetting, z: npt.ArrayLike, q0: npt.ArrayLike, rtol: float = 1e-10) -> bool:
     """Whether J is surjective: the smallest eigenvalue of 𝒟 exceeds rtol times the largest."""
     w = np.linalg.eigvalsh(np.asarray(dexterity_matrix(setting, z, q0)))
     return bool(w[0] > rtol * max(w[-1], 1e-300))

@@ -10,12 +10,20 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import numpy.typing as npt
 
 from mobman.io.output import save_figure  # noqa: E402
 from mobman.planning.endpoint import PlanningSetting, trajectory  # noqa: E402
 
 
-def plot_paths(setting: PlanningSetting, z, q0, y_d, title: str, path: Path) -> Path:
+def plot_paths(
+    setting: PlanningSetting,
+    z: npt.ArrayLike,
+    q0: npt.ArrayLike,
+    y_d: Sequence[float] | np.ndarray,
+    title: str,
+    path: Path,
+) -> Path:
     """Platform path (q1, q2) and end-effector path (y1, y2) in the plane for the configuration z (figs.
     2–4)."""
     _, q_p, y = trajectory(setting, z, q0)
@@ -34,11 +42,13 @@ def plot_paths(setting: PlanningSetting, z, q0, y_d, title: str, path: Path) -> 
     return _save(fig, path)
 
 
-def plot_convergence(histories: Mapping[str, Sequence[float]], tol: float, title: str, path: Path) -> Path:
+def plot_convergence(
+    histories: Mapping[str, Sequence[float] | np.ndarray], tol: float, title: str, path: Path
+) -> Path:
     """log10 ‖e‖ versus iteration, one line per labelled run (figs. 5–7)."""
     fig, ax = plt.subplots(figsize=(6.5, 4))
-    for label, errors in histories.items():
-        errors = np.asarray(errors, float)
+    for label, history in histories.items():
+        errors = np.asarray(history, float)
         ax.plot(np.arange(errors.size), np.log10(np.maximum(errors, 1e-300)), label=label, lw=1.2)
     ax.axhline(np.log10(tol), color="k", ls=":", lw=1, label=f"tolerance {tol:g}")
     ax.set_xscale("symlog", linthresh=10)

@@ -16,7 +16,7 @@ the cost of a ``lax.scan`` on a CPU is dominated by the number of steps.
 
 from __future__ import annotations
 
-from typing import Callable, NamedTuple
+from typing import Any, Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -162,16 +162,16 @@ def _matrices(method: str) -> tuple[np.ndarray, np.ndarray]:
     return A, np.asarray(tab.b)
 
 
-def step(method: str, rhs: Callable, state, inputs, h: float):
+def step(method: str, rhs: Callable, state: Any, inputs: Any, h: float) -> Any:
     """One explicit Runge–Kutta step of d state/dt = rhs(state, input) (state a pytree) with stage inputs
     ``inputs[i]`` (the input at time t + c_i h).
 
     The stages run in a ``lax.fori_loop`` over a buffer of slopes K (row i of A only reaches the slopes
     already computed), so ``rhs`` is traced once: compilation time does not grow with the number of stages.
     """
-    A, b = _matrices(method)
-    stages = b.size
-    A, b = jnp.asarray(A), jnp.asarray(b)
+    A_np, b_np = _matrices(method)
+    stages = b_np.size
+    A, b = jnp.asarray(A_np), jnp.asarray(b_np)
     slopes = jax.tree.map(lambda a: jnp.zeros((stages,) + jnp.shape(a), jnp.result_type(a)), state)
 
     def stage(i, slopes):

@@ -9,14 +9,15 @@ U diag(σ) (cos t, sin t). A singular J gives a flat ellipse (a segment).
 from __future__ import annotations
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from mobman.errors import InputError
-from mobman.viz.paths import finish_plane
+from mobman.viz.paths import figure_of, finish_plane
 
 
-def ellipse_outline(jacobian, scale: float = 1.0, n: int = 73) -> np.ndarray:
+def ellipse_outline(jacobian: npt.ArrayLike, scale: float = 1.0, n: int = 73) -> np.ndarray:
     """Boundary points (..., n, 2) of the velocity ellipses of 2 × k Jacobians (..., 2, k), batched.
 
     ``scale`` multiplies the semi-axes (a drawing scale: metres of figure per unit of velocity).
@@ -35,19 +36,20 @@ def ellipse_outline(jacobian, scale: float = 1.0, n: int = 73) -> np.ndarray:
 
 
 def plot_ellipses(
-    centers,
-    jacobians,
+    centers: npt.ArrayLike,
+    jacobians: npt.ArrayLike,
     scale: float = 1.0,
-    path=None,
+    path: npt.ArrayLike | None = None,
     labels: str = "ellipse",
     title: str | None = None,
     ax: Axes | None = None,
     color: str = "tab:purple",
 ) -> Figure:
-    """Draw the ellipses of ``jacobians`` (N, 2, k) centred at ``centers`` (N, 2), over an optional path (M, 2)."""
+    """Draw the ellipses of ``jacobians`` (N, 2, k) centred at ``centers`` (N, 2), over an optional path (M, 2).
+    Returns a new Figure, or the figure holding ``ax`` when one is given."""
     centers = np.asarray(centers, dtype=float)
     outlines = ellipse_outline(jacobians, scale) + centers[:, None, :]
-    fig = Figure(figsize=(6.4, 5.2)) if ax is None else ax.figure
+    fig = Figure(figsize=(6.4, 5.2)) if ax is None else figure_of(ax)
     ax = fig.add_subplot(1, 1, 1) if ax is None else ax
     if path is not None:
         path = np.asarray(path)

@@ -13,6 +13,7 @@ from typing import Mapping
 
 import jax
 import numpy as np
+import numpy.typing as npt
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Polygon
@@ -20,7 +21,12 @@ from matplotlib.patches import Polygon
 from mobman.model.robot import MobileManipulator
 
 
-@lru_cache(maxsize=32)
+def figure_of(ax: Axes) -> Figure:
+    """The top-level figure holding ``ax`` (also when ``ax`` is in a subfigure)."""
+    fig = ax.figure
+    return fig if isinstance(fig, Figure) else fig.figure
+
+
 def finish_plane(ax: Axes, title: str | None = None) -> None:
     """Equal-aspect x–y axes in metres with a grid, the legend and an optional title."""
     ax.set_aspect("equal", adjustable="datalim")
@@ -32,6 +38,7 @@ def finish_plane(ax: Axes, title: str | None = None) -> None:
         ax.set_title(title)
 
 
+@lru_cache(maxsize=32)
 def _frames_fn(robot: MobileManipulator):
     def one(q):
         f = robot.frames(q)
@@ -40,7 +47,7 @@ def _frames_fn(robot: MobileManipulator):
     return jax.jit(jax.vmap(one))
 
 
-def frame_points(robot: MobileManipulator, q) -> dict[str, np.ndarray]:
+def frame_points(robot: MobileManipulator, q: npt.ArrayLike) -> dict[str, np.ndarray]:
     """World points of configurations ``q`` (N, n_q), batched in one compiled call.
 
     Returns ``platform`` (N, 3) origin, ``heading`` (N, 2) unit x axis of the platform, and per arm
@@ -102,7 +109,9 @@ def draw_robot(
         )
         ax.add_patch(Polygon(wheel, closed=True, facecolor=color, edgecolor=color, alpha=alpha))
     tip = center + 0.6 * length * heading
-    ax.annotate("", xy=tip, xytext=center, arrowprops=dict(arrowstyle="->", color=color, alpha=alpha))
+    ax.annotate(
+        "", xy=tuple(tip), xytext=tuple(center), arrowprops=dict(arrowstyle="->", color=color, alpha=alpha)
+    )
     for key in (k_ for k_ in points if k_.startswith("arm")):
         chain = points[key][k]
         ax.plot(chain[:, 0], chain[:, 1], "-o", color="tab:blue", alpha=alpha, ms=3, lw=2)
@@ -116,10 +125,10 @@ def _instants(n: int, instants: int | tuple[int, ...]) -> np.ndarray:
 
 def plot_paths(
     robot: MobileManipulator,
-    q,
-    ee=None,
+    q: npt.ArrayLike,
+    ee: npt.ArrayLike | None = None,
     instants: int | tuple[int, ...] = 5,
-    reference=None,
+    reference: npt.ArrayLike | None = None,
     extra: Mapping[str, np.ndarray] | None = None,
     title: str | None = None,
     ax: Axes | None = None,
@@ -129,10 +138,10 @@ def plot_paths(
     q: configurations over time (N, n_q). ee: end-effector xy over time (N, 2) (default: the last arm
     point of the first arm). reference: the desired xy path (N, 2) to overlay. extra: further labelled
     xy paths (e.g. Korayem's base point F). instants: how many evenly spaced instants to draw, or their
-    indices.
+    indices. Returns a new Figure, or the figure holding ``ax`` when one is given.
     """
     points = frame_points(robot, q)
-    fig = Figure(figsize=(6.4, 5.2)) if ax is None else ax.figure
+    fig = Figure(figsize=(6.4, 5.2)) if ax is None else figure_of(ax)
     ax = fig.add_subplot(1, 1, 1) if ax is None else ax
     ee = points["arm0"][:, -1, :2] if ee is None else np.asarray(ee)
     if reference is not None:
@@ -157,7 +166,7 @@ def plot_paths(
 
 
 def plot_paths_3d(
-    robot: MobileManipulator, q, instants: int | tuple[int, ...] = 4, title: str | None = None
+    robot: MobileManipulator, q: npt.ArrayLike, instants: int | tuple[int, ...] = 4, title: str | None = None
 ) -> Figure:
     """3-D view: platform path on the floor, end-effector path, the arm and platform outline at instants."""
     points = frame_points(robot, q)

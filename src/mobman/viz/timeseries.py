@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Mapping, Sequence
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
@@ -12,11 +13,11 @@ from mobman.errors import InputError
 
 
 def plot_timeseries(
-    t,
+    t: npt.ArrayLike,
     panels: Mapping[str, Mapping[str, np.ndarray]],
-    hlines: Mapping[str, Sequence[float]] | None = None,
+    hlines: Mapping[str, Sequence[float] | np.ndarray] | None = None,
     title: str | None = None,
-    events: Mapping[str, Sequence[float]] | None = None,
+    events: Mapping[str, Sequence[float] | np.ndarray] | None = None,
 ) -> Figure:
     """Stacked panels sharing the time axis.
 
@@ -45,11 +46,11 @@ def plot_timeseries(
 
 def draw_curves(
     ax: Axes,
-    t,
+    t: npt.ArrayLike,
     curves: Mapping[str, np.ndarray],
-    hlines: Sequence[float] = (),
-    events: Mapping[str, Sequence[float]] | None = None,
-    unlabelled_events: Mapping[str, Sequence[float]] | None = None,
+    hlines: Sequence[float] | np.ndarray = (),
+    events: Mapping[str, Sequence[float] | np.ndarray] | None = None,
+    unlabelled_events: Mapping[str, Sequence[float] | np.ndarray] | None = None,
 ) -> None:
     """Curves (label → values (N,)) against t on one axes, dashed horizontal levels, and event times as
     labelled vertical lines (``unlabelled_events``: the same lines without legend entries)."""

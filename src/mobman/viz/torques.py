@@ -28,5 +28,8 @@ def plot_torques(capacity: LoadCapacity, title: str | None = None) -> Figure:
             "T⁺": capacity.upper[:, i],
             "T⁻": capacity.lower[:, i],
         }
-    events = {f"limit: {capacity.limiting_actuator}": [capacity.limiting_time]} if capacity.bounded else None
+    limit = capacity.limiting_time
+    events = (
+        {f"limit: {capacity.limiting_actuator}": [limit]} if capacity.bounded and limit is not None else None
+    )
     return plot_timeseries(capacity.t, panels, title=title, events=events)

@@ -29,6 +29,7 @@ from pathlib import Path
 
 import jax
 import numpy as np
+import numpy.typing as npt
 import trimesh
 import viser
 import viser.transforms as vtf
@@ -95,7 +96,7 @@ class Snapshot:
 
 
 def evaluate(
-    robot: MobileManipulator, q, normalized: bool = False, dynamics: Dynamics | None = None
+    robot: MobileManipulator, q: npt.ArrayLike, normalized: bool = False, dynamics: Dynamics | None = None
 ) -> Snapshot:
     """Everything the viewer draws for configurations q (T, n_q), computed in blocks of :data:`CHUNK`
     configurations (one compilation per robot serves a single configuration and a whole motion).
@@ -148,13 +149,14 @@ def _evaluate(
     if dynamics is not None:
         model, torque_limits = dynamics
         each = [ellipsoids.dynamic_ellipsoid(model, padded, torque_limits, task=tool) for tool in tools]
-        dynamic = tuple(
+        center, semi_axes, axis_directions = (
             np.stack([np.asarray(getattr(e, part)) for e in each], axis=1)
             for part in ("center", "axes", "directions")
         )
+        dynamic = (center, semi_axes, axis_directions)
     snap = Snapshot(
         padded,
-        tuple(np.asarray(a) for a in frames.platform),
+        (np.asarray(frames.platform[0]), np.asarray(frames.platform[1])),
         links,
         np.stack([p[:, -1] for _, p in links], axis=1),
         axes,
@@ -298,6 +300,7 @@ def _platform_shapes(robot: MobileManipulator) -> tuple[tuple[Visual, ...], floa
     """Generated platform body, wheels and mount pillars (for a platform without visuals), and the ground
     height."""
     platform = robot.platform
+    wheels: tuple[tuple[float, float], ...]
     if isinstance(platform, DifferentialDrive):
         r, b = platform.wheel_radius, platform.half_track
         length, width, x0, wheels = 2.4 * b, 1.5 * b, 0.0, ((0.0, b), (0.0, -b))
@@ -417,7 +420,7 @@ class Viewer:
         host = f"[{self.host}]" if ":" in self.host else self.host
         return f"http://{host}:{self.server.get_port()}"
 
-    def show(self, q) -> None:
+    def show(self, q: npt.ArrayLike) -> None:
         """Draw configuration ``q`` (n_q values): robot, frames, ellipsoid, measures, J̄ and the flags."""
         q = np.asarray(q, dtype=float)
         if q.ndim != 1:
@@ -440,9 +443,9 @@ class Viewer:
 
     def set_time(self, t: float) -> None:
         """Show the loaded motion at the sample nearest to time ``t`` (as the time slider does)."""
-        if self.time_slider is None:
-            raise InputError("no motion loaded: call load_results first")
-        self.time_slider.value = float(t)
+        # (viser defines the setter of a GUI input's ``value`` apart from its getter, which mypy reads as a
+        # read-only property: hence the ``type: ignore[misc]`` of each assignment)
+        self._time_slider().value = float(t)  # type: ignore[misc]
 
     def wait_for_client(self, timeout: float = 30.0) -> None:
         """Block until a browser is connected (for scripted screenshots)."""
@@ -463,7 +466,7 @@ class Viewer:
     def __enter__(self) -> "Viewer":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     # --- scene -----------------------------------------------------------------------------------------
@@ -477,7 +480,8 @@ class Viewer:
         if textured:
             self._keep(self.server.scene.add_mesh_trimesh(name, mesh))
             return
-        color = tuple(int(round(255 * c)) for c in visual.rgba[:3])
+        red, green, blue = (int(round(255 * c)) for c in visual.rgba[:3])
+        color = (red, green, blue)
         opacity = None if visual.rgba[3] >= 1.0 else visual.rgba[3]
         self._keep(
             self.server.scene.add_mesh_simple(name, mesh.vertices, mesh.faces, color=color, opacity=opacity)
@@ -524,8 +528,8 @@ class Viewer:
             self._generated.append(generated)
         sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
         shown = (("kinematic", ELLIPSOID_COLOR), ("dynamic", DYNAMIC_COLOR))[: 2 if self.dynamics else 1]
-        for (kind, color), arm in itertools.product(shown, range(len(robot.arms))):
-            name = ellipsoid_node(kind, robot, arm)
+        for (kind, color), index in itertools.product(shown, range(len(robot.arms))):
+            name = ellipsoid_node(kind, robot, index)
             self._keep(
                 scene.add_mesh_simple(
                     name, sphere.vertices, sphere.faces, color=color, opacity=0.35, cast_shadow=False
@@ -556,6 +560,7 @@ class Viewer:
                         local = rs[0, i].T @ (ps[0, i + 1] - ps[0, i])
                         turn, length = _segment_pose(local)
                         link = nodes[f"{name}/link"]
+                        assert isinstance(link, viser.MeshHandle)  # a generated link is a mesh
                         link.wxyz, link.scale = turn, (1.0, 1.0, max(length, 1e-6))
                         link.visible = length > 1e-9
             self._draw_ellipsoid(snap)
@@ -586,6 +591,7 @@ class Viewer:
         at, axes, directions = at[arm], axes[arm], directions[arm].copy()
         finite = bool(np.isfinite(axes).all() and np.isfinite(directions).all())
         node = self.nodes[ellipsoid_node(kind, self.robot, arm)]
+        assert isinstance(node, viser.MeshHandle)  # an ellipsoid is a mesh
         node.visible = finite and kind in self._ellipsoid_factor
         if not node.visible:
             return
@@ -594,7 +600,8 @@ class Viewer:
             directions[:, -1] *= -1.0
         node.position = at if offset is None else at + factor * offset
         node.wxyz = _wxyz(directions)
-        node.scale = tuple(float(max(a * factor, 1e-4)) for a in axes)
+        sx, sy, sz = (float(max(a * factor, 1e-4)) for a in axes)
+        node.scale = (sx, sy, sz)
 
     # --- panel -----------------------------------------------------------------------------------------
 
@@ -630,7 +637,7 @@ class Viewer:
         self._syncing = True
         try:
             for slider, value in zip(self._sliders, q):
-                slider.value = float(np.clip(value, slider.min, slider.max))
+                slider.value = float(np.clip(value, slider.min, slider.max))  # type: ignore[misc]
         finally:
             self._syncing = False
 
@@ -677,7 +684,7 @@ class Viewer:
         self.time_slider.on_update(lambda _: self._on_time())
         self._play = gui.add_button("play / pause", order=-1.5)
         self._play.on_click(lambda _: self._toggle_play())
-        self._plot = None
+        self._plot: viser.GuiUplotHandle | None = None
         self._motion_gui += [self.time_slider, self._play]
         if self._player is None:
             self._player = threading.Thread(target=self._play_loop, daemon=True)
@@ -733,20 +740,24 @@ class Viewer:
             values, q_slider = motion.q[:, coordinate], self._sliders[coordinate]
             q_slider.min = min(q_slider.min, float(np.floor(values.min())) - 1.0)
             q_slider.max = max(q_slider.max, float(np.ceil(values.max())) + 1.0)
-        slider = self.time_slider
+        slider = self._time_slider()
         self._syncing = True
         slider.min, slider.max = float(self._times[0]), float(self._times[-1])
         slider.step = float(max(np.min(np.diff(self._times)) if len(self._times) > 1 else 1e-3, 1e-6))
         self._syncing = False
-        slider.value = float(self._times[0])
+        slider.value = float(self._times[0])  # type: ignore[misc]
         self._on_time()
 
+    def _time_slider(self) -> viser.GuiSliderHandle:
+        """The time slider of the loaded motion (created by :meth:`load_results`)."""
+        if self.time_slider is None:
+            raise InputError("no motion loaded: call load_results first")
+        return self.time_slider
+
     def _index(self) -> int:
-        k = int(np.searchsorted(self._times, self.time_slider.value))
-        if k > 0 and (
-            k == len(self._times)
-            or self.time_slider.value - self._times[k - 1] < self._times[k] - self.time_slider.value
-        ):
+        t = self._time_slider().value
+        k = int(np.searchsorted(self._times, t))
+        if k > 0 and (k == len(self._times) or t - self._times[k - 1] < self._times[k] - t):
             k -= 1
         return min(k, len(self._times) - 1)
 
@@ -757,7 +768,8 @@ class Viewer:
         snap = self._motion.at(k)
         self._draw(snap)
         self._set_sliders(snap.q[0])
-        self._plot.data = self._plot_data(k)
+        if self._plot is not None:
+            self._plot.data = self._plot_data(k)
 
     def _plot_data(self, k: int) -> tuple[np.ndarray, ...]:
         """The plotted measures against time, and the marker series: the last one's value at sample k only."""
@@ -770,8 +782,9 @@ class Viewer:
         if self._playing.is_set():
             self._playing.clear()
         else:
-            if self.time_slider.value >= self._times[-1]:
-                self.time_slider.value = float(self._times[0])
+            slider = self._time_slider()
+            if slider.value >= self._times[-1]:
+                slider.value = float(self._times[0])  # type: ignore[misc]
             self._playing.set()
 
     def _play_loop(self) -> None:
@@ -780,8 +793,9 @@ class Viewer:
             if not self._playing.wait(timeout=0.2):
                 continue
             start = time.monotonic()
-            t = min(self.time_slider.value + period, float(self._times[-1]))
-            self.time_slider.value = t
+            slider = self._time_slider()
+            t = min(slider.value + period, float(self._times[-1]))
+            slider.value = t  # type: ignore[misc]
             if t >= self._times[-1]:
                 self._playing.clear()
             time.sleep(max(0.0, period - (time.monotonic() - start)))

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import jax.numpy as jnp
-import numpy as np
+import numpy.typing as npt
 
 from mobman.control._tree import pytree
 from mobman.control.laws.base import Law, LawStep, apply_gain, damped_inverse, positive_gain
@@ -41,7 +41,7 @@ class AugmentedJacobian(Law):
     gains = ("feedback",)
 
     extra: Task | None = None
-    feedback: np.ndarray | None = None
+    feedback: npt.ArrayLike | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.extra, Task):
@@ -52,20 +52,26 @@ class AugmentedJacobian(Law):
             )
         self.check_options("AugmentedJacobian")
 
+    @property
+    def rows(self) -> Task:
+        """The extra task (checked to be a Task when the law is made)."""
+        assert isinstance(self.extra, Task)
+        return self.extra
+
     def controlled_task(self, task: Task) -> Task:
         """The task stacked with the extra rows."""
-        return stack(task, self.extra)
+        return stack(task, self.rows)
 
     def __call__(self, robot, task, q, t, xi_star, xi_star_dot) -> AugmentedStep:
         task = robot.task if task is None else task
-        if task.dim + self.extra.dim != robot.n_eta:
+        if task.dim + self.rows.dim != robot.n_eta:
             raise ModelError(
-                f"AugmentedJacobian: task ({task.dim}) + extra ({self.extra.dim}) rows must equal "
+                f"AugmentedJacobian: task ({task.dim}) + extra ({self.rows.dim}) rows must equal "
                 f"n_eta = {robot.n_eta} of {robot.name}"
             )
         frames = robot.frames(q)
-        xi = jnp.concatenate([task.value(robot, q, frames), self.extra.value(robot, q, frames)])
-        jac = jnp.concatenate([task.jacobian(robot, q, frames), self.extra.jacobian(robot, q, frames)])
+        xi = jnp.concatenate([task.value(robot, q, frames), self.rows.value(robot, q, frames)])
+        jac = jnp.concatenate([task.jacobian(robot, q, frames), self.rows.jacobian(robot, q, frames)])
         scale = self.scale(robot)
         e = self.controlled_task(task).error(xi_star, xi)
         rhs = xi_star_dot if self.feedback is None else xi_star_dot + apply_gain(self.feedback, e, "feedback")

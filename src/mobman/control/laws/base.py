@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 from mobman.control._tree import pytree
 from mobman.errors import ModelError
@@ -68,8 +69,9 @@ def positive_gain(value: Any, name: str, owner: str, allow_zero: bool = False) -
     return arr
 
 
-def apply_gain(gain: jnp.ndarray, e: jnp.ndarray, name: str = "gain") -> jnp.ndarray:
+def apply_gain(gain: npt.ArrayLike, e: jnp.ndarray, name: str = "gain") -> jnp.ndarray:
     """W e for a scalar, diagonal (vector) or full (matrix) gain."""
+    gain = jnp.asarray(gain)
     if gain.ndim == 2:
         if gain.shape[1] != e.shape[-1]:
             raise ModelError(
@@ -195,7 +197,8 @@ class Law:
 
     def scale(self, robot: MobileManipulator) -> np.ndarray:
         """R: the velocity limits when normalised, ones otherwise."""
-        return self._limits(robot) if self.normalized else np.ones(robot.n_eta)
+        limits = self._limits(robot) if self.normalized else None
+        return np.ones(robot.n_eta) if limits is None else limits
 
     def saturation(
         self, robot: MobileManipulator, eta: jnp.ndarray

@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from mobman.control._tree import pytree
 from mobman.control.criteria import Criterion
@@ -33,14 +34,15 @@ class BaylePseudoInverse(PseudoInverseLaw):
     kind = "bayle"
     gains = ("W", "k")
 
-    W: np.ndarray = 1.0
-    k: np.ndarray = 0.0
+    W: npt.ArrayLike = 1.0
+    k: npt.ArrayLike = 0.0
     criterion: Criterion | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "W", positive_gain(self.W, "W", "BaylePseudoInverse"))
-        object.__setattr__(self, "k", positive_gain(self.k, "k", "BaylePseudoInverse", allow_zero=True))
-        if self.k.ndim:
+        k = positive_gain(self.k, "k", "BaylePseudoInverse", allow_zero=True)
+        object.__setattr__(self, "k", k)
+        if k.ndim:
             raise ModelError(f"BaylePseudoInverse: k must be a scalar ≥ 0, got {self.k!r}")
         self.check_options("BaylePseudoInverse")
 
@@ -50,7 +52,7 @@ class BaylePseudoInverse(PseudoInverseLaw):
     def self_motion(self, projector, s_scaled, grad):
         # Hᵀ ∇P with H = S R (I − J⁺J) (n_q × δ), as (I − J⁺J)ᵀ ((S R)ᵀ ∇P): two products with vectors
         # instead of forming H
-        return -self.k * matvec(projector.T, matvec(s_scaled.T, grad))
+        return -np.asarray(self.k) * matvec(projector.T, matvec(s_scaled.T, grad))
 
 
 __all__ = ["BaylePseudoInverse"]

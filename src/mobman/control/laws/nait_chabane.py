@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import jax.numpy as jnp
-import numpy as np
+import numpy.typing as npt
 
 from mobman.control._tree import pytree
 from mobman.control.criteria import Criterion
@@ -29,9 +29,9 @@ class NaitChabane(PseudoInverseLaw):
     kind = "nait-chabane"
     gains = ("W", "feedback")
 
-    W: np.ndarray = 1.0
+    W: npt.ArrayLike = 1.0
     criterion: Criterion | None = None
-    feedback: np.ndarray | None = None
+    feedback: npt.ArrayLike | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "W", positive_gain(self.W, "W", "NaitChabane"))

@@ -4,6 +4,7 @@ null-space term from a criterion P(q), η = R η̃ with J̃ = J̄ R."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import jax
 import jax.numpy as jnp
@@ -11,6 +12,9 @@ import jax.numpy as jnp
 from mobman.control._tree import pytree
 from mobman.control.laws.base import Law, LawStep, damped_inverse
 from mobman.model.spatial import matmul, matvec
+
+if TYPE_CHECKING:
+    from mobman.control.criteria import Criterion
 
 
 @pytree("eta", "damping", "sigma_min", "limit_ratio", "saturated", "damped", "P")
@@ -27,7 +31,7 @@ class PseudoInverseLaw(Law):
     ``self_motion(projector, s_scaled, grad)`` (the null-space term from ∇P, in the scaled coordinates), and
     a ``criterion`` field (None: no self-motion)."""
 
-    criterion = None
+    criterion: Criterion | None = None
 
     def feedback_term(self, e: jnp.ndarray) -> jnp.ndarray:
         raise NotImplementedError
@@ -45,8 +49,9 @@ class PseudoInverseLaw(Law):
         inverse, lam2, sigma_min = damped_inverse(jt, self.damping, self.damping_threshold)
         eta = matvec(inverse, xi_star_dot + self.feedback_term(e))
         value = None
-        if self.criterion is not None:
-            value, grad = jax.value_and_grad(lambda qq: self.criterion(robot, qq, task, xi_star))(q)
+        criterion = self.criterion
+        if criterion is not None:
+            value, grad = jax.value_and_grad(lambda qq: criterion(robot, qq, task, xi_star))(q)
             projector = jnp.eye(robot.n_eta, dtype=jt.dtype) - matmul(inverse, jt)
             eta = eta + self.self_motion(projector, robot.S(q) * scale, grad)
         eta, ratio, saturated = self.saturation(robot, eta * scale)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import jax.numpy as jnp
 import numpy as np
@@ -41,7 +42,7 @@ class FunctionTask(Task):
     def symbolic(self, kin):
         import sympy as sp
 
-        q = np.empty(len(kin.q), dtype=object)
+        q: Any = np.empty(len(kin.q), dtype=object)  # SymPy symbols through the jax.numpy function
         q[:] = kin.q
         try:
             out = np.asarray(self.fn(q), dtype=object).reshape(-1)
