@@ -27,7 +27,8 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
   the half track from the joint origins; ``wheel_radius=`` and ``half_track=`` override both. The platform
   frame (the origin of q_p = (x, y, θ)) is the axle midpoint projected on the base frame's xy plane, axes of
   the base frame; the base → platform offset is folded into each arm's first joint. ``"omnidirectional"``
-  puts q_p at the base frame, and so does ``"fixed"`` (an arm on a base that does not move: no wheels needed).
+  puts q_p at the base frame, and so does ``"fixed"`` (an arm on a base that does not move: no wheels needed)
+  and any other platform kind without a URDF reader of its own (its parameters from ``platform_options``).
   ``"skid_steer"`` takes four continuous joints on two axles (front, rear); the platform frame is their
   centre, the half track and the wheelbase come from the joint origins; a skid-steer's ``x_icr`` and
   ``track_factor`` are not in a URDF: pass them in ``platform_options``.
@@ -59,6 +60,7 @@ link inertials too.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import warnings
@@ -75,16 +77,14 @@ from mobman.model.inertial import PlatformBody, Wheel
 from mobman.model.platforms import (
     CarLike,
     DifferentialDrive,
-    Fixed,
-    Omnidirectional,
     Platform,
     SkidSteer,
     platform_class,
+    platform_kinds,
 )
 from mobman.model.robot import MobileManipulator, actuator_names
 from mobman.model.visual import Visual
 
-PLATFORMS = ("auto", "car", "differential", "fixed", "omnidirectional", "skid_steer")
 _MOVING = ("revolute", "continuous", "prismatic")
 _AXLE_TOL = 1e-4  # alignment tolerance of wheel axles (URDF angles are often rounded: 1.5708 for π/2)
 
@@ -541,10 +541,11 @@ def read_urdf(
     ``x_icr`` and ``track_factor``). Returns the robot, its :class:`UrdfSummary`,
     the platform's inertials and the effort limits.
     """
-    if platform != "auto":
-        platform_class(platform)  # an unknown kind: ModelError with the closest one
-    if platform not in PLATFORMS:
-        raise ModelError(f"platform {platform!r} cannot be read from URDF; one of {', '.join(PLATFORMS)}")
+    kinds = ("auto", *platform_kinds())
+    if platform not in kinds:
+        close = difflib.get_close_matches(str(platform), kinds, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise ModelError(f"platform must be one of {', '.join(kinds)}, got {platform!r}{hint}")
     options = dict(platform_options or {})
     urdf, file = _parse(path)
     tree = _Tree.of(urdf.robot)
@@ -626,9 +627,8 @@ def read_urdf(
         summary_extra = _wheel_summary(
             platform_model, (wheel_joints[0], wheel_joints[2]), r, b, offset, speed
         )
-    else:
-        cls = Fixed if platform == "fixed" else Omnidirectional
-        platform_model = _build(cls, options)
+    else:  # omnidirectional, fixed, any other kind: q_p at the base frame
+        platform_model = _build(platform_class(platform), options)
         summary_extra = dict(platform_limits=f"platform velocity limits: none ({platform}, not in URDF)")
     wheel_pair = tuple(wheel_joints) or None
     platform_pose = base_pose @ spatial.as_matrix(spatial.transform(None, tuple(offset)))
