@@ -70,8 +70,8 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
             0,
         )
     ]
-    if _has_wheels(model):
-        w = model.wheel
+    w = model.wheel
+    if w is not None and robot.platform.wheel_actuated:
         for site in _driven_wheels(model):
             centre = p_p + r_p @ np.array([site.x, site.y, site.radius])
             result.append(Body(w.mass, centre, r_p, np.diag([w.I_m, 0.0, w.I_m]), None, 0))

@@ -761,7 +761,8 @@ def _platform_efforts(platform: Platform, wheel_joints) -> list[float | None]:
     for k in range(platform.n_eta):
         joints = [j for j, w in zip(wheel_joints, platform.wheels()) if w.actuator == k]
         values = [None if j.limit is None else _limit(j.limit.effort) for j in joints]
-        efforts.append(None if None in values else float(sum(values)))
+        known = [v for v in values if v is not None]
+        efforts.append(float(sum(known)) if len(known) == len(values) else None)
     return efforts
 
 

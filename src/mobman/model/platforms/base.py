@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.typing import ArrayLike
 
 from mobman import checks
 from mobman.errors import ModelError
@@ -143,11 +144,11 @@ class Platform(ABC):
         """Maximum |u| per actuator where the limit is given per actuator (e.g. per wheel), else None."""
         return None
 
-    def wheel_speeds_to_eta(self, wheel_speeds):
+    def wheel_speeds_to_eta(self, wheel_speeds: ArrayLike) -> jnp.ndarray:
         """Actuator speeds u → η_p = T u; batched over leading dimensions."""
         return jnp.asarray(wheel_speeds) @ self.actuator_matrix().T
 
-    def eta_to_wheel_speeds(self, eta):
+    def eta_to_wheel_speeds(self, eta: ArrayLike) -> jnp.ndarray:
         """η_p → actuator speeds u = T⁻¹ η_p; batched."""
         return jnp.asarray(eta) @ np.linalg.inv(self.actuator_matrix()).T
 
@@ -214,7 +215,7 @@ def _bracket(f, g):
     return h
 
 
-def planar_exp(q_p: jnp.ndarray, vx, vy, dth) -> jnp.ndarray:
+def planar_exp(q_p: jnp.ndarray, vx: jnp.ndarray, vy: jnp.ndarray, dth: jnp.ndarray) -> jnp.ndarray:
     """q_p with its pose (x, y, θ) moved along the body twist (vx, vy, Δθ) for unit time, the exponential of
     SE(2): the body-frame displacement V(Δθ)(vx, vy) with V(φ) = (2 sin(φ/2)/φ) R(φ/2), i.e. a chord of the
     arc along the heading θ + Δθ/2. Further coordinates are kept."""

@@ -44,7 +44,9 @@ class CarLike(Platform):
 
     @property
     def velocity_limits(self) -> tuple[float, ...] | None:
-        return None if self.u1_max is None else (float(self.u1_max), float(self.u2_max))
+        if self.u1_max is None or self.u2_max is None:
+            return None
+        return (float(self.u1_max), float(self.u2_max))
 
     def parameters(self) -> dict[str, float]:
         return {"length": self.length}

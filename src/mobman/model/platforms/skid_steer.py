@@ -103,7 +103,7 @@ class SkidSteer(Platform):
         if self.wheel_speed_max is not None:
             v = self.wheel_radius * self.wheel_speed_max
             return (v, v / self.effective_half_track)
-        if self.v_max is not None:
+        if self.v_max is not None and self.omega_max is not None:
             return (float(self.v_max), float(self.omega_max))
         return None
 
