@@ -93,7 +93,7 @@ def test_robot_S_G_and_reduced_jacobian_are_the_arm_alone(tmp_path):
 def test_simulation_never_moves_the_base(tmp_path):
     (tmp_path / "fixed.toml").write_text(ROBOT_FILE)
     robot = robot_file.load(tmp_path / "fixed.toml")
-    q0 = np.array([0.4, -0.2, math.pi / 2, 0.3, 0.5, 0.4])
+    q0 = np.array([0.4, -0.2, math.pi / 2, 0.3, 0.5, 1.2])
     start = _tool(q0)
     reference = Line(tuple(start), tuple(start + np.array([-0.05, 0.05, -0.05])), duration=0.5)
     law = BaylePseudoInverse(W=2.0)
