@@ -9,6 +9,8 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from mobman import ModelError, dynamics, kinematics, symbolic
@@ -87,6 +89,21 @@ def test_S_is_the_icr_unicycle_and_the_constraint_annihilates_it():
         np.testing.assert_allclose(g, [[math.sin(q[2]), -math.cos(q[2]), -X_ICR]], atol=1e-15)
         np.testing.assert_allclose(g @ s, 0.0, atol=1e-15)
         assert PLATFORM.lie_algebra_rank(q, depth=2) == 3
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    theta=st.sampled_from([math.pi / 2, -math.pi / 2, math.pi]) | st.floats(-math.pi, math.pi),
+    x_icr=st.floats(-0.25, 0.25),
+    chi=st.floats(1.0, 3.0),
+)
+def test_constraint_and_wheel_rows_hold_for_any_parameters(theta, x_icr, chi):
+    p = SkidSteer(R, B, L, x_icr, chi)
+    q = np.array([0.3, -0.2, theta])
+    s = np.asarray(p.S(q))
+    np.testing.assert_allclose(np.asarray(p.constraints(q)) @ s, 0.0, atol=1e-15)
+    inverse = np.array([[1.0, chi * B], [1.0, -chi * B]]) / R  # (φ̇_r, φ̇_l) = ((v ± χbω)/r)
+    np.testing.assert_allclose(np.asarray(p.actuator_rows(q)) @ s, inverse, rtol=1e-13, atol=1e-13)
 
 
 def test_S_and_constraints_agree_with_the_symbolic_model():
