@@ -22,7 +22,7 @@ from mobman.dynamics.load_capacity import (
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
-from mobman.model.platform import DifferentialDrive
+from mobman.model.platforms import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 
 G = 9.81

@@ -18,7 +18,7 @@ from mobman.errors import InputError, ModelError
 from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.io.urdf import inspect_urdf, load_urdf, read_urdf, urdf_tips, write_urdf
 from mobman.model import robots
-from mobman.model.platform import DifferentialDrive
+from mobman.model.platforms import DifferentialDrive
 
 WHEEL = """
   <link name="{side}_wheel">

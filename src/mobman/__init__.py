@@ -23,11 +23,13 @@ from mobman.model import (  # noqa: E402
     Arm,
     CarLike,
     DifferentialDrive,
+    Fixed,
     Joint,
     LinkInertial,
     MobileManipulator,
     Mount,
     Omnidirectional,
+    SkidSteer,
 )
 
 __version__ = "0.1.0"
@@ -37,6 +39,7 @@ __all__ = [
     "CarLike",
     "ConvergenceError",
     "DifferentialDrive",
+    "Fixed",
     "InfeasibleTaskError",
     "InputError",
     "Joint",
@@ -47,5 +50,6 @@ __all__ = [
     "Mount",
     "Omnidirectional",
     "SingularConfigurationError",
+    "SkidSteer",
     "__version__",
 ]

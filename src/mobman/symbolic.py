@@ -35,7 +35,6 @@ import numpy as np
 import sympy as sp
 
 from mobman.errors import ModelError
-from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Task
 
@@ -57,9 +56,7 @@ def exact(x: float) -> sp.Expr:
 
 def _sites(robot: MobileManipulator) -> dict[str, float]:
     """Every number of the model that the kinematics reads, keyed by where it is."""
-    sites: dict[str, float] = {}
-    if isinstance(robot.platform, CarLike):
-        sites["platform.length"] = robot.platform.length
+    sites = {f"platform.{k}": v for k, v in robot.platform.parameters().items()}
     for i, (arm, mount) in enumerate(zip(robot.arms, robot.mounts)):
         sites.update({f"mount{i}[{k}]": v for k, v in enumerate(mount.transform)})
         sites.update({f"arm{i}.tool[{k}]": v for k, v in enumerate(arm.tool)})
@@ -190,41 +187,21 @@ class SymbolicRobot:
         evaluated = np.stack([np.asarray(fn(*row), dtype=float).reshape(a.shape) for row in q])
         return int(rank(evaluated, RTOL).max())
 
+    def _platform_values(self) -> dict[str, sp.Expr]:
+        return {k: self.constants.values[f"platform.{k}"] for k in self.robot.platform.parameters()}
+
     def S(self) -> sp.Matrix:
-        """S(q) = diag(S_p(q_p), I) (Bayle §4.2), mirroring each platform's ``S``."""
-        robot, q = self.robot, self.q
-        p = robot.platform
-        c, s = sp.cos(q[2]), sp.sin(q[2])
-        if isinstance(p, DifferentialDrive):
-            s_p = sp.Matrix([[c, 0], [s, 0], [0, 1]])
-        elif isinstance(p, CarLike):
-            length = self.constants.values["platform.length"]
-            cp, sp_ = sp.cos(q[3]), sp.sin(q[3])
-            s_p = sp.Matrix([[c * cp, 0], [s * cp, 0], [sp_ / length, 0], [0, 1]])
-        elif isinstance(p, Omnidirectional):
-            s_p = sp.eye(3)
-        else:
-            raise ModelError(f"symbolic: platform {type(p).__name__} has no symbolic S")
-        n_a = robot.n_q - p.n_q
+        """S(q) = diag(S_p(q_p), I) (Bayle §4.2), the platform's ``symbolic_S``."""
+        p = self.robot.platform
+        s_p = p.symbolic_S(self.q[: p.n_q], self._platform_values())
+        n_a = self.robot.n_q - p.n_q
         return sp.diag(s_p, sp.eye(n_a)) if n_a else s_p
 
     def constraints(self) -> sp.Matrix:
-        """G(q) with G S = 0 (Bayle §4.1), mirroring each platform's ``constraints``."""
-        robot, q = self.robot, self.q
-        p = robot.platform
-        c, s = sp.cos(q[2]), sp.sin(q[2])
-        if isinstance(p, DifferentialDrive):
-            g_p = sp.Matrix([[s, -c, 0]])
-        elif isinstance(p, CarLike):
-            length = self.constants.values["platform.length"]
-            g_p = sp.Matrix(
-                [[s, -c, 0, 0], [-sp.sin(q[2] + q[3]), sp.cos(q[2] + q[3]), length * sp.cos(q[3]), 0]]
-            )
-        elif isinstance(p, Omnidirectional):
-            return sp.zeros(0, robot.n_q)
-        else:
-            raise ModelError(f"symbolic: platform {type(p).__name__} has no symbolic constraints")
-        return g_p.row_join(sp.zeros(g_p.rows, robot.n_q - p.n_q))
+        """G(q) with G S = 0 (Bayle §4.1), the platform's ``symbolic_constraints``."""
+        p = self.robot.platform
+        g_p = p.symbolic_constraints(self.q[: p.n_q], self._platform_values())
+        return g_p.row_join(sp.zeros(g_p.rows, self.robot.n_q - p.n_q))
 
     # --- tasks ---------------------------------------------------------------------------------------
 

@@ -20,7 +20,7 @@ mass = 40.0
 inertia_z = 2.0
 com = [0.0, 0.0, 0.0]                # optional
 
-[wheel]                              # Wheel (differential drive only)
+[wheel]                              # Wheel (platforms with driven wheels: differential, skid_steer)
 mass = 1.0
 I_w = 0.005
 I_m = 0.0025

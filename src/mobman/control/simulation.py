@@ -2,9 +2,10 @@
 
 Integrators (``integrator=``):
 
-``"lie"`` (default for a differential-drive platform) — the commutator-free Lie-group Runge–Kutta method of
+``"lie"`` (default for a platform with a constant body twist, S(q_p) = R(θ) B: a differential drive, a
+    skid-steer, a fixed base) — the commutator-free Lie-group Runge–Kutta method of
     order 4 of Celledoni, Marthinsen & Owren (*Future Gener. Comput. Syst.* 19, 2003) on SE(2) × Rⁿ, with the
-    quasi-velocities η = (v, ω, q̇_a) as body twists (v, 0, ω) of the platform:
+    quasi-velocities η = (η_p, q̇_a) as body twists B η_p of the platform ((v, 0, ω) for a differential drive):
         X1 = η(q, t),               Y2 = q ∘ exp(h X1/2),           X2 = η(Y2, t + h/2),
         Y3 = q ∘ exp(h X2/2),       X3 = η(Y3, t + h/2),
         Y4 = Y2 ∘ exp(h (X3 − X1/2)), X4 = η(Y4, t + h),
@@ -41,7 +42,6 @@ from mobman.batching import across_cores
 from mobman.control.laws import Law
 from mobman.control.references import Reference
 from mobman.errors import InputError, ModelError, SingularConfigurationError
-from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.spatial import matvec
 from mobman.model.tasks import Task
@@ -96,13 +96,11 @@ class SimulationResult:
         return replace(self, **{name: pick(getattr(self, name)) for name in batched})
 
 
-def _unicycle_exp(q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
-    """q ∘ exp(u) for the increment u = h X = (Δs, Δθ, Δq_a): an exact arc of the platform (no slip)."""
-    ds, dth = u[0], u[1]
-    half = q[2] + 0.5 * dth
-    chord = ds * jnp.sinc(dth / (2.0 * jnp.pi))  # 2 sin(Δθ/2) Δs / Δθ
-    pose = jnp.stack([q[0] + chord * jnp.cos(half), q[1] + chord * jnp.sin(half), q[2] + dth])
-    return jnp.concatenate([pose, q[3:] + u[2:]])
+def _unicycle_exp(robot, q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
+    """q ∘ exp(u) for the increment u = h X = (h η_p, Δq_a): an exact arc of a platform with a constant body
+    twist (``platform.displace``), the joints moved by Δq_a."""
+    n_p, n_e = robot.n_platform, robot.platform.n_eta
+    return jnp.concatenate([robot.platform.displace(q[:n_p], u[:n_e]), q[n_p:] + u[n_e:]])
 
 
 # Butcher-like tables: stage i evaluates the law at Y_i, t + c_i h. Lie: Y_i = q ∘ exp(h A_i·X) ∘ exp(h B_i·X);
@@ -126,7 +124,7 @@ def _step(robot, integrator, control, q, t, h):
         x, k = carry
         onehot, a, b, c = row
         if lie:
-            y = _unicycle_exp(_unicycle_exp(q, h * matvec(x.T, a)), h * matvec(x.T, b))
+            y = _unicycle_exp(robot, _unicycle_exp(robot, q, h * matvec(x.T, a)), h * matvec(x.T, b))
         else:
             y = q + h * matvec(k.T, a)
         eta, info = control(y, t + c * h)
@@ -140,17 +138,18 @@ def _step(robot, integrator, control, q, t, h):
     table = (np.eye(4), _A if lie else _A_RK4, _B_LIE, _C)
     (x, k), samples = jax.lax.scan(stage, zeros, table)
     if lie:
-        q_mid = _unicycle_exp(q, h * matvec(x.T, _LIE_OUT[0]))
-        q_next = _unicycle_exp(q_mid, h * matvec(x.T, _LIE_OUT[1]))
+        q_mid = _unicycle_exp(robot, q, h * matvec(x.T, _LIE_OUT[0]))
+        q_next = _unicycle_exp(robot, q_mid, h * matvec(x.T, _LIE_OUT[1]))
     else:
         q_mid, q_next = None, q + h * matvec(k.T, _RK4_OUT)
     return (q_next, q_mid, *unravel[0](samples[0]))
 
 
 def _hold(robot, q, eta, h):
-    """q after h seconds at constant η (zero-order hold): exact for a differential drive, RK4 otherwise."""
-    if isinstance(robot.platform, DifferentialDrive):
-        return _unicycle_exp(q, h * eta)
+    """q after h seconds at constant η (zero-order hold): exact for a platform with a constant body twist
+    (``platform.constant_body_twist``: differential drive, skid-steer, fixed base), RK4 otherwise."""
+    if robot.platform.constant_body_twist:
+        return _unicycle_exp(robot, q, h * eta)
 
     def velocity(y):
         return matvec(robot.S(y), eta)
@@ -310,9 +309,12 @@ def _setup(robot, task, law, reference, q0, duration, dt, measures, integrator) 
     if integrator not in INTEGRATORS:
         raise InputError(f"integrator {integrator!r} not one of {', '.join(INTEGRATORS)}")
     if integrator == "auto":
-        integrator = "lie" if isinstance(robot.platform, DifferentialDrive) else "rk4"
-    if integrator == "lie" and not isinstance(robot.platform, DifferentialDrive):
-        raise InputError(f"integrator 'lie' needs a differential-drive platform, {robot.name} has another")
+        integrator = "lie" if robot.platform.constant_body_twist else "rk4"
+    if integrator == "lie" and not robot.platform.constant_body_twist:
+        raise InputError(
+            f"integrator 'lie' needs a platform with a constant body twist (S = R(θ) B: differential, "
+            f"skid_steer, fixed), {robot.name} has a {type(robot.platform).__name__}"
+        )
     for name, value in (("duration", duration), ("dt", dt)):
         if not (np.isfinite(value) and value > 0):
             raise InputError(f"{name} must be a finite number > 0 s, got {value!r}")

@@ -4,7 +4,7 @@ Contract (see the module docstrings for the equations):
 
     from mobman import dynamics as dyn
     dyn.PlatformBody(mass, inertia_z, com=(0, 0, 0))     # inertia_z about the vertical through the com
-    dyn.Wheel(mass, I_w, I_m)                            # required for a DifferentialDrive platform
+    dyn.Wheel(mass, I_w, I_m)                            # required for a platform with driven wheels
     dyn.Payload(mass, inertia=(0,)*9, com=(0, 0, 0), arm=0)
     model = dyn.DynamicModel(robot, body, wheel, payload=None, gravity=(0, 0, -9.81))
     model = dyn.DynamicModel.from_urdf(mobman.io.urdf.read_urdf(path, tip=...), gravity=(0, 0, -9.81))
@@ -18,8 +18,9 @@ Extensions of the contract: ``coriolis_matrix``, ``generalized_force`` (M q̈ + 
 (E, full coordinates), ``energy``, ``constraint_forces``, ``wheel_angle_rates`` (Yamamoto's wheel-angle
 coordinates), ``yamamoto_model()``; actuators (``TorqueBox``, ``DCMotor``) and ``max_load`` in
 :mod:`mobman.dynamics.actuators` / :mod:`mobman.dynamics.load_capacity`.
-Actuator order τ = (τ_wheel_right, τ_wheel_left, τ_joints…) (``model.actuator_names``); platforms other than
-a differential drive are actuated directly on their quasi-velocities (one generalized force per η_p).
+Actuator order τ = (τ_platform…, τ_joints…) (``model.actuator_names``): the right and left wheels (or wheel
+sides of a skid-steer) of a platform with driven wheels; other platforms are actuated directly on their
+quasi-velocities (one generalized force per η_p).
 """
 
 from mobman.dynamics.actuators import DCMotor, TorqueBox

@@ -1,8 +1,8 @@
 """Task-space ellipsoids of mobile manipulators, kinematic and dynamic (Yamamoto & Yun §3, eq. 23–38).
 
-Both ellipsoids live in actuator space: the platform's quasi-velocities η = (v, ω) of a differential drive are
-replaced by the wheel speeds u_p = (θ̇_r, θ̇_l) (η_p = T_p u_p, ``DifferentialDrive.wheel_matrix``), because
-the maxima of Table 2 are per wheel, and the torques τ = (τ_r, τ_l, τ_joints…) act on exactly these
+Both ellipsoids live in actuator space: the platform's quasi-velocities η = (v, ω) of a differential drive (or
+a skid-steer) are replaced by the wheel speeds u_p = (θ̇_r, θ̇_l) (η_p = T_p u_p, ``platform.actuator_matrix``),
+because the maxima of Table 2 are per wheel, and the torques τ = (τ_r, τ_l, τ_joints…) act on exactly these
 coordinates. The arms' coordinates are their joint rates. x = u in the paper's notation (eq. 39).
 
 **Kinematic** (eq. 23–26). Normalised actuator rates ū = Y u, Y = diag(1/u_max) (eq. 23), Ĵ = J Y⁻¹ (eq. 24)
@@ -55,7 +55,6 @@ import numpy.typing as npt
 from mobman import kinematics
 from mobman.dynamics.grasp import HeldObject, grasp_matrix, grasp_matrix_rate
 from mobman.errors import InputError, ModelError, SingularConfigurationError
-from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import PlanarAngle, Position, Task, stack
 
@@ -173,44 +172,39 @@ class Ellipsoid:
 
 
 def uses_wheels(robot: MobileManipulator, kind: str = "kinematic") -> bool:
-    """Whether the platform's actuator coordinates are wheel speeds: a differential drive (for the kinematic
-    ellipsoid only when its limit is given per wheel, ``wheel_speed_max``)."""
+    """Whether the platform's actuator coordinates are wheel speeds: a platform with driven wheels
+    (``platform.wheel_actuated``; for the kinematic ellipsoid only when its limit is given per wheel,
+    ``platform.actuator_speed_limits``)."""
     platform = robot.platform
-    if not isinstance(platform, DifferentialDrive):
+    if not platform.wheel_actuated:
         return False
-    return kind == "dynamic" or platform.wheel_speed_max is not None
+    return kind == "dynamic" or platform.actuator_speed_limits is not None
 
 
 def actuator_map(robot: MobileManipulator, wheels: bool) -> np.ndarray:
-    """T (n_eta × n_eta) with η = T u: the wheel matrix on the platform block when ``wheels``, else I."""
+    """T (n_eta × n_eta) with η = T u: the platform's ``actuator_matrix`` on its block when ``wheels``, else
+    I."""
     t = np.eye(robot.n_eta)
     if wheels:
-        platform = robot.platform
-        assert isinstance(platform, DifferentialDrive)  # only a differential drive has wheels
-        t[:2, :2] = platform.wheel_matrix()
+        n = robot.platform.n_eta
+        t[:n, :n] = robot.platform.actuator_matrix()
     return t
 
 
 def actuator_velocity_limits(robot: MobileManipulator, platform_scale: float = 1.0) -> np.ndarray:
     """u_max: wheel speed limits (or the platform's η limits), then joint rate limits; the platform part times
     ``platform_scale``. ModelError when a limit is missing."""
-    platform = robot.platform
-    parts: list[tuple[float, ...] | None]
-    if (
-        uses_wheels(robot)
-        and isinstance(platform, DifferentialDrive)
-        and platform.wheel_speed_max is not None
-    ):
-        parts = [(platform.wheel_speed_max,) * 2]
+    wheels = uses_wheels(robot)
+    if wheels:
+        platform = robot.platform.actuator_speed_limits
     else:
-        parts = [platform.velocity_limits]
-    parts += [a.velocity_limits for a in robot.arms]
-    known = [v for v in parts if v is not None]
-    if len(known) < len(parts):
+        platform = robot.platform.velocity_limits
+    arms = [a.velocity_limits for a in robot.arms]
+    if platform is None or any(a is None for a in arms):
         raise ModelError(
             f"{robot.name}: the kinematic ellipsoid needs velocity limits of the platform and of every joint"
         )
-    limits = np.array([v for part in known for v in part], dtype=float)
+    limits = np.array(tuple(platform) + tuple(v for a in arms if a is not None for v in a), dtype=float)
     limits[: robot.platform.n_eta] *= platform_scale
     return limits
 

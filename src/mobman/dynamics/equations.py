@@ -12,10 +12,11 @@
 - :func:`coriolis_matrix` C(q, q̇) with c = C q̇ and Ṁ − 2C skew-symmetric.
 - :func:`generalized_force` M q̈ + c + g by Newton–Euler and virtual work (:func:`body_forces_one`), without
   forming M: the fast inverse dynamics, equal to the Lagrange form above (tests; Pinocchio's RNEA).
-- :func:`actuation_matrix` E(q): generalized forces of the actuator torques τ = (τ_wheel_r, τ_wheel_l,
-  τ_joints…) (wheel torque τ does the work τ δφ; joint torques act on the joint motion variables, so a coupled
-  arm gets Cᵀ τ). Platforms other than a differential drive are actuated directly on their quasi-velocities:
-  E_p = S_p (S_pᵀ S_p)⁻¹, so that S_pᵀ E_p = I.
+- :func:`actuation_matrix` E(q): generalized forces of the actuator torques τ = (τ_platform…, τ_joints…)
+  (an actuator torque τ does the work τ δu, u = A_p(q) q̇ the platform's actuator rows
+  ``platform.actuator_rows``: the wheel rows of a differential drive or a skid-steer; joint torques act on the
+  joint motion variables, so a coupled arm gets Cᵀ τ). Platforms without driven wheels are actuated directly
+  on their quasi-velocities: E_p = A_pᵀ = S_p (S_pᵀ S_p)⁻¹, so that S_pᵀ E_p = I.
 
 Functions here are batched over the leading dimensions of ``q`` (and ``q_dot``) and compiled with the model
 static; the ``*_one`` kernels work on one configuration (for use inside other compiled code).
@@ -36,7 +37,6 @@ from mobman.batching import across_cores, blocked
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
 from mobman.model.inertial import Wheel
-from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import Frames
 
 
@@ -72,10 +72,10 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
             0,
         )
     ]
-    if isinstance(robot.platform, DifferentialDrive) and model.wheel is not None:
-        b, r, w = robot.platform.half_track, robot.platform.wheel_radius, model.wheel
-        for side in (1.0, -1.0):
-            centre = p_p + r_p @ np.array([0.0, side * b, r])
+    w = model.wheel
+    if w is not None and robot.platform.wheel_actuated:
+        for site in _driven_wheels(model):
+            centre = p_p + r_p @ np.array([site.x, site.y, site.radius])
             result.append(Body(w.mass, centre, r_p, np.diag([w.I_m, 0.0, w.I_m]), None, 0))
     for i, arm in enumerate(robot.arms):
         rs, ps = frames.links[i]
@@ -106,20 +106,20 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
     return result
 
 
-def wheel_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
-    """Rows a_r, a_l (2 × n_q) with φ̇_r,l = a · q̇ = (ẋ cos θ + ẏ sin θ ± b θ̇)/r (Yamamoto eq. 4–6)."""
+def actuator_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
+    """Rows A (n_platform_actuators × n_q) with u = A q̇, u the platform's actuator speeds
+    (``platform.actuator_rows``; for a differential drive φ̇_r,l = (ẋ cos θ + ẏ sin θ ± b θ̇)/r, Yamamoto
+    eq. 4–6)."""
     robot = model.robot
-    platform = robot.platform
-    assert isinstance(platform, DifferentialDrive)  # only a differential drive has wheel rows
-    b, r = platform.half_track, platform.wheel_radius
-    c, s = jnp.cos(q[2]), jnp.sin(q[2])
-    rows = [
-        jnp.concatenate(
-            [jnp.stack([c, s, side * b * jnp.ones_like(c)]) / r, jnp.zeros(robot.n_q - 3, dtype=q.dtype)]
-        )
-        for side in (1.0, -1.0)
-    ]
-    return jnp.stack(rows)
+    rows = robot.platform.actuator_rows(q[: robot.n_platform])
+    return jnp.concatenate([rows, jnp.zeros((rows.shape[0], robot.n_q - robot.n_platform), q.dtype)], axis=1)
+
+
+def wheel_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
+    """Rows a_i (one per driven wheel × n_q) with the wheel's spin φ̇_i = a_i · q̇: the row of the actuator
+    that turns it (:func:`actuator_rows`)."""
+    rows = actuator_rows(model, q)
+    return rows[np.array([site.actuator for site in _driven_wheels(model)], dtype=int)]
 
 
 class BodyJacobians(NamedTuple):
@@ -159,9 +159,13 @@ def body_jacobians(model: DynamicModel, q: jnp.ndarray, payload_mass: float | No
     return BodyJacobians(masses, jnp.concatenate(j_v), jnp.concatenate(j_w), inertia_world)
 
 
+def _driven_wheels(model: DynamicModel):
+    return tuple(site for site in model.robot.platform.wheels() if site.actuator is not None)
+
+
 def _spinning_wheel(model: DynamicModel) -> Wheel | None:
-    """The wheel whose spin adds kinetic energy (a differential drive's), or None."""
-    return model.wheel if isinstance(model.robot.platform, DifferentialDrive) else None
+    """The wheel whose spin adds kinetic energy (a platform with driven wheels), or None."""
+    return model.wheel if model.robot.platform.wheel_actuated else None
 
 
 def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
@@ -272,11 +276,7 @@ def actuation_matrix_one(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
     """E(q) (n_q × n_actuators): generalized forces E τ of the actuator torques."""
     robot = model.robot
     n_p = robot.n_platform
-    if isinstance(robot.platform, DifferentialDrive):
-        e_p = wheel_rows(model, q)[:, :n_p].T
-    else:
-        s_p = robot.platform.S(q[:n_p])
-        e_p = s_p @ jnp.linalg.inv(s_p.T @ s_p)
+    e_p = robot.platform.actuator_rows(q[:n_p]).T
     blocks = [jnp.concatenate([e_p, jnp.zeros((robot.n_q - n_p, e_p.shape[1]), q.dtype)], axis=0)]
     for i, arm in enumerate(robot.arms):
         col = np.zeros((robot.n_q, arm.n_joints))
@@ -387,11 +387,14 @@ def actuation_matrix(model: DynamicModel, q: npt.ArrayLike) -> jnp.ndarray:
 
 
 def wheel_angle_rates(model: DynamicModel, q: npt.ArrayLike, q_dot: npt.ArrayLike) -> jnp.ndarray:
-    """(θ̇_r, θ̇_l) of a differential drive for (q, q̇): the conversion to Yamamoto's wheel-angle coordinates
-    q_v = (x_o, y_o, θ_r, θ_l), whose heading is ϕ = c (θ_r − θ_l), c = r/(2b) (eq. 4)."""
-    if not isinstance(model.robot.platform, DifferentialDrive):
-        raise InputError("wheel_angle_rates: the platform must be a DifferentialDrive")
-    rows = jnp.vectorize(partial(wheel_rows, model), signature="(n)->(w,n)")(validated_q(model, q))
+    """(θ̇_r, θ̇_l) of a platform with driven wheels (one rate per actuator) for (q, q̇): for a differential
+    drive the conversion to Yamamoto's wheel-angle coordinates q_v = (x_o, y_o, θ_r, θ_l), whose heading is
+    ϕ = c (θ_r − θ_l), c = r/(2b) (eq. 4)."""
+    if not model.robot.platform.wheel_actuated:
+        raise InputError(
+            f"wheel_angle_rates: the platform must have driven wheels, {type(model.robot.platform).__name__} has none"
+        )
+    rows = jnp.vectorize(partial(actuator_rows, model), signature="(n)->(w,n)")(validated_q(model, q))
     return jnp.einsum("...wn,...n->...w", rows, _q_dot(model, q_dot))
 
 

@@ -17,7 +17,6 @@ from mobman import checks
 from mobman.errors import ModelError
 from mobman.model.arm import LinkInertial
 from mobman.model.inertial import Payload, PlatformBody, Wheel
-from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator, actuator_names
 
 if TYPE_CHECKING:
@@ -29,8 +28,8 @@ class DynamicModel:
     """A robot with its complete inertial description and gravity (frozen, hashable).
 
     robot: every arm joint must carry a :class:`mobman.LinkInertial`; body: the platform body; wheel: the
-    driving wheels (required for a :class:`DifferentialDrive` platform, ignored otherwise — other platforms
-    are actuated directly on their quasi-velocities); payload: an optional load; gravity: the world vector
+    driving wheels (required for a platform with driven wheels, ``platform.wheel_actuated``: a differential
+    drive, a skid-steer; ignored otherwise — other platforms are actuated directly on their quasi-velocities); payload: an optional load; gravity: the world vector
     (m/s²).
     """
 
@@ -47,9 +46,10 @@ class DynamicModel:
             )
         if not isinstance(self.body, PlatformBody):
             raise ModelError("DynamicModel: body must be a PlatformBody(mass, inertia_z, com)")
-        if isinstance(self.robot.platform, DifferentialDrive) and not isinstance(self.wheel, Wheel):
+        if self.robot.platform.wheel_actuated and not isinstance(self.wheel, Wheel):
             raise ModelError(
-                "DynamicModel: wheel must be a Wheel(mass, I_w, I_m) for a differential-drive platform"
+                f"DynamicModel: wheel must be a Wheel(mass, I_w, I_m) for a {type(self.robot.platform).__name__} "
+                "platform (driven wheels)"
             )
         if self.payload is not None:
             if not isinstance(self.payload, Payload):
@@ -69,7 +69,8 @@ class DynamicModel:
 
     @property
     def n_actuators(self) -> int:
-        """Number of actuator torques: the platform's (two wheels, or one per quasi-velocity) + the joints."""
+        """Number of actuator torques: the platform's (its driven wheels, or one per quasi-velocity) + the
+        joints."""
         return self.robot.n_eta
 
     @property

@@ -6,8 +6,8 @@ A file names a platform, one or more arms given by DH tables, and where each arm
     task = "xy"                      # optional: components of arm 0's tool position (default "xyz")
 
     [platform]
-    kind = "differential"            # differential | car | omnidirectional
-    wheel_radius = 0.1               # the platform's keyword arguments (DifferentialDrive, CarLike, Omnidirectional)
+    kind = "differential"            # car | differential | fixed | omnidirectional | skid_steer
+    wheel_radius = 0.1               # the platform's parameters (the fields of its class)
     half_track = 0.25
     v_max = 0.5
     omega_max = 1.0
@@ -22,6 +22,16 @@ A file names a platform, one or more arms given by DH tables, and where each arm
     tool = [0.0, 0.0, 0.0]           # optional: tool point in the last link frame (m)
     mount = [0.0, 0.0, 0.0, 0.0]     # optional: arm base x, y, z (m) and yaw (rad) in the platform frame
 
+The ``[platform]`` keys are the fields of the platform's class (docs/platforms.md):
+
+- ``differential`` (:class:`mobman.DifferentialDrive`): ``wheel_radius``, ``half_track``, and ``v_max`` with
+  ``omega_max`` or ``wheel_speed_max``;
+- ``skid_steer`` (:class:`mobman.SkidSteer`): ``wheel_radius``, ``half_track``, ``wheelbase``, ``x_icr``,
+  ``track_factor``, and ``v_max`` with ``omega_max`` or ``wheel_speed_max``;
+- ``car`` (:class:`mobman.CarLike`): ``length``, ``u1_max``, ``u2_max``;
+- ``omnidirectional`` (:class:`mobman.Omnidirectional`): ``limits = [vx, vy, omega]``;
+- ``fixed`` (:class:`mobman.Fixed`): no keys (the arm's base does not move).
+
 Wherever the command line takes a built-in robot name, a path ending in ``.toml`` loads such a file; a
 ``[robot]`` table of a spec file takes ``file = "robot.toml"`` (relative to the spec) instead of ``name``.
 """
@@ -35,12 +45,11 @@ from mobman.errors import InputError
 from mobman.io import spec as fields
 from mobman.model import robots
 from mobman.model.arm import Arm
-from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional
+from mobman.model.platforms import platform_class, platform_kinds
 from mobman.model.robot import MobileManipulator, Mount
 from mobman.model.spatial import transform
 from mobman.model.tasks import Position
 
-PLATFORMS = {"differential": DifferentialDrive, "car": CarLike, "omnidirectional": Omnidirectional}
 CONVENTIONS = {"dh": Arm.from_dh, "modified-dh": Arm.from_modified_dh}
 ARM_KEYS = ("name", "convention", "table", "kinds", "velocity_max", "limits", "tool", "mount")
 
@@ -91,7 +100,7 @@ def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
 
 
 def _platform(entries: dict):
-    cls = fields.kind(entries, "platform", PLATFORMS)
+    cls = fields.kind(entries, "platform", {kind: platform_class(kind) for kind in platform_kinds()})
     parameters = tuple(f.name for f in dataclasses.fields(cls) if f.init)
     fields.keys(entries, "platform", ("kind", *parameters))
     values = {

@@ -27,7 +27,11 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
   the half track from the joint origins; ``wheel_radius=`` and ``half_track=`` override both. The platform
   frame (the origin of q_p = (x, y, θ)) is the axle midpoint projected on the base frame's xy plane, axes of
   the base frame; the base → platform offset is folded into each arm's first joint. ``"omnidirectional"``
-  puts q_p at the base frame.
+  puts q_p at the base frame, and so does ``"fixed"`` (an arm on a base that does not move: no wheels needed)
+  and any other platform kind without a URDF reader of its own (its parameters from ``platform_options``).
+  ``"skid_steer"`` takes four continuous joints on two axles (front, rear); the platform frame is their
+  centre, the half track and the wheelbase come from the joint origins; a skid-steer's ``x_icr`` and
+  ``track_factor`` are not in a URDF: pass them in ``platform_options``.
 - **Velocity limits.** A per-wheel speed limit |φ̇| ≤ φ̇_max makes the admissible (v, ω) set the diamond
   |v|/(r φ̇_max) + |ω|/(r φ̇_max / b) ≤ 1 (Yamamoto & Yun eq. 23–26: v = r(φ̇_r + φ̇_l)/2,
   ω = r(φ̇_r − φ̇_l)/(2b)). The platform keeps ``wheel_speed_max``: the kinematic ellipsoids use the diamond
@@ -44,8 +48,10 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
 Writing (:func:`write_urdf`)
 ----------------------------
 Every built-in robot writes to a URDF that reads back to the same ξ, J̄ and M: the platform link
-``base_footprint`` (the platform frame), for a differential drive two continuous wheel joints at (0, ±b, r)
-with cylinder collisions of radius r and the per-wheel speed limit, for a car a steering joint and its front
+``base_footprint`` (the platform frame), for a platform with driven wheels (differential drive, skid-steer)
+one continuous wheel joint per wheel at its centre (x, y, r) with a cylinder collision of radius r and the
+per-wheel speed limit (read back with ``platform="skid_steer"`` and the ``platform_options`` x_icr and
+track_factor for a skid-steer), for a car a steering joint and its front
 wheel (read back with ``platform="car"``); each arm's mount and joint offsets folded into the joint origins.
 An arm with a coupling (motion = C q_a, which URDF cannot state) is written in its motion variables: the URDF's
 coordinates are C q_a. Given a platform body and wheels (:mod:`mobman.model.inertial`), they are written as
@@ -54,10 +60,11 @@ link inertials too.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -67,11 +74,17 @@ from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.inertial import PlatformBody, Wheel
-from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional, Platform
+from mobman.model.platforms import (
+    CarLike,
+    DifferentialDrive,
+    Platform,
+    SkidSteer,
+    platform_class,
+    platform_kinds,
+)
 from mobman.model.robot import MobileManipulator, actuator_names
 from mobman.model.visual import Visual
 
-PLATFORMS = ("auto", "differential", "car", "omnidirectional")
 _MOVING = ("revolute", "continuous", "prismatic")
 _AXLE_TOL = 1e-4  # alignment tolerance of wheel axles (URDF angles are often rounded: 1.5708 for π/2)
 
@@ -406,25 +419,34 @@ def _geometry_radius(link, axle_local: np.ndarray, directory: str) -> float | No
     return None
 
 
+def _wheel_geometry(joint, poses, inv) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and axle of a wheel joint in the base frame (the joint frame after its motion is the wheel
+    link's frame; its pose at the reference configuration)."""
+    t = inv @ poses[joint.child]
+    return t[:3, 3], t[:3, :3] @ _axis(joint)
+
+
+def _common_axle(a, b, poses, inv) -> bool:
+    (pa, axa), (pb, axb) = _wheel_geometry(a, poses, inv), _wheel_geometry(b, poses, inv)
+    d = pb - pa
+    separation = np.linalg.norm(d)
+    return bool(
+        separation > _AXLE_TOL
+        and abs(abs(axa @ axb) - 1.0) < _AXLE_TOL
+        and abs(abs(d @ axa) / separation - 1.0) < _AXLE_TOL
+        and abs(axa[2]) < _AXLE_TOL
+    )
+
+
 def _wheel_pair(tree, candidates, wheels, poses, base_pose):
     """The (right, left) wheel joints with their axle data, or ModelError listing the continuous joints."""
     inv = np.linalg.inv(base_pose)
 
     def geometry(j):
-        # the joint frame after its motion is the wheel link's frame; its pose at the reference configuration
-        t = inv @ poses[j.child]
-        return t[:3, 3], t[:3, :3] @ _axis(j)
+        return _wheel_geometry(j, poses, inv)
 
     def common_axle(a, b) -> bool:
-        (pa, axa), (pb, axb) = geometry(a), geometry(b)
-        d = pb - pa
-        separation = np.linalg.norm(d)
-        return bool(
-            separation > _AXLE_TOL
-            and abs(abs(axa @ axb) - 1.0) < _AXLE_TOL
-            and abs(abs(d @ axa) / separation - 1.0) < _AXLE_TOL
-            and abs(axa[2]) < _AXLE_TOL
-        )
+        return _common_axle(a, b, poses, inv)
 
     if wheels is not None:
         pair = []
@@ -464,6 +486,34 @@ def _wheel_pair(tree, candidates, wheels, poses, base_pose):
     return right, left, pa, pb
 
 
+def _skid_wheels(tree, candidates, poses, base_pose):
+    """The four wheel joints of a skid-steer (front right, rear right, front left, rear left), two axles of
+    continuous joints off the chains along the base's y axis, with their centres in the base frame."""
+    inv = np.linalg.inv(base_pose)
+    pairs = [
+        (a, b)
+        for k, a in enumerate(candidates)
+        for b in candidates[k + 1 :]
+        if _common_axle(a, b, poses, inv)
+    ]
+    used = [j.name for pair in pairs for j in pair]
+    if len(pairs) != 2 or len(set(used)) != 4:
+        seen = ", ".join(j.name for j in candidates) or "none"
+        raise ModelError(
+            "platform='skid_steer': needs four wheel joints on two axles (continuous joints off the arm chains); "
+            f"continuous joints seen: {seen}"
+        )
+    wheels = {j.name: (j, _wheel_geometry(j, poses, inv)[0]) for pair in pairs for j in pair}
+    for joint, _ in wheels.values():
+        if abs(abs(_wheel_geometry(joint, poses, inv)[1][1]) - 1.0) > _AXLE_TOL:
+            raise ModelError(
+                f"platform='skid_steer': the axle of {joint.name!r} is not along the base's y axis"
+            )
+    centre = np.mean([p for _, p in wheels.values()], axis=0)
+    ordered = sorted(wheels.values(), key=lambda jp: (jp[1][1] > centre[1], jp[1][0] < centre[0]))
+    return [j for j, _ in ordered], [p for _, p in ordered], centre
+
+
 def _spin_inertia(tree, joint, poses) -> float:
     """a_wᵀ I a_w of the wheel link (and what is fixed to it) about the axle through its centre of mass."""
     frame = poses[joint.child]
@@ -485,17 +535,24 @@ def read_urdf(
     half_track: float | None = None,
     name: str | None = None,
     locked: Mapping[str, float] | None = None,
+    platform_options: Mapping[str, float] | None = None,
 ) -> UrdfModel:
     """Read a mobile manipulator from a URDF file (see the module docstring for every rule).
 
     ``tip``: the end-effector link, or several (one arm each); ``base``: the platform link; ``platform``:
-    ``"auto"`` | ``"differential"`` | ``"car"`` | ``"omnidirectional"``; ``wheels``: (right, left) wheel joint
-    names; ``wheel_radius``, ``half_track``: override the values read; ``name``: the robot's name (default the
-    URDF's); ``locked``: joints held at fixed values (rad or m). Returns the robot, its :class:`UrdfSummary`,
+    ``"auto"`` | ``"differential"`` | ``"car"`` | ``"skid_steer"`` | ``"omnidirectional"`` | ``"fixed"``;
+    ``wheels``: (right, left) wheel joint names; ``wheel_radius``, ``half_track``: override the values read;
+    ``name``: the robot's name (default the URDF's); ``locked``: joints held at fixed values (rad or m);
+    ``platform_options``: further parameters of the platform that a URDF does not state (e.g. a skid-steer's
+    ``x_icr`` and ``track_factor``). Returns the robot, its :class:`UrdfSummary`,
     the platform's inertials and the effort limits.
     """
-    if platform not in PLATFORMS:
-        raise ModelError(f"platform must be one of {', '.join(PLATFORMS)}, got {platform!r}")
+    kinds = ("auto", *platform_kinds())
+    if platform not in kinds:
+        close = difflib.get_close_matches(str(platform), kinds, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise ModelError(f"platform must be one of {', '.join(kinds)}, got {platform!r}{hint}")
+    options = dict(platform_options or {})
     urdf, file = _parse(path)
     tree = _Tree.of(urdf.robot)
     tips = (tip,) if isinstance(tip, str) else tuple(tip)
@@ -546,46 +603,40 @@ def read_urdf(
     summary_extra: dict = {}
     continuous = [j for j in passive if j.type == "continuous" and groups[j.parent] is None]
     offset = np.zeros(3)
-    wheel_pair = None
+    wheel_joints: list = []
     platform_model: Platform
     if platform in ("auto", "differential", "car"):
         right, left, p_r, p_l = _wheel_pair(tree, continuous, wheels, poses, base_pose)
-        wheel_pair = (right, left)
+        wheel_joints = [right, left]
         midpoint = 0.5 * (p_r + p_l)
         offset = np.array([midpoint[0], midpoint[1], 0.0])
         b = float(np.linalg.norm(p_l - p_r) / 2) if half_track is None else float(half_track)
-        r = wheel_radius
-        if r is None:
-            r = _geometry_radius(tree.links[right.child], _axis(right), directory)
-            if r is None:
-                raise ModelError(
-                    f"URDF link {right.child!r}: no cylinder, sphere or mesh gives the wheel radius; "
-                    "pass wheel_radius="
-                )
-        speeds = [j.limit.velocity for j in wheel_pair if j.limit is not None and _limit(j.limit.velocity)]
-        speed = min(speeds) if len(speeds) == 2 else None
+        r = _wheel_radius(tree, right, wheel_radius, directory)
+        speed = _wheel_speed(wheel_joints)
         if platform == "car":
-            platform_model = _car(tree, passive, groups, poses, base_pose, offset, wheel_pair)
+            platform_model = _car(tree, passive, groups, poses, base_pose, offset, (right, left))
         else:
-            platform_model = DifferentialDrive(wheel_radius=r, half_track=b, wheel_speed_max=speed)
-        if speed is None:
-            limits_text = "platform velocity limits: none (the wheel joints give no velocity limit)"
-        else:
-            limits_text = (
-                f"platform velocity limits from the wheel speed limit {speed:.6g} rad/s: the diamond "
-                f"|v|/{r * speed:.6g} + |ω|/{r * speed / b:.6g} ≤ 1; normalised measures use its vertices "
-                f"v_max = {r * speed:.6g} m/s, ω_max = {r * speed / b:.6g} rad/s"
+            platform_model = _build(
+                DifferentialDrive, options, wheel_radius=r, half_track=b, wheel_speed_max=speed
             )
-        summary_extra = dict(
-            wheels=(right.name, left.name),
-            wheel_radius=float(r),
-            half_track=b,
-            reference_point=(float(offset[0]), float(offset[1])),
-            platform_limits=limits_text,
+        summary_extra = _wheel_summary(platform_model, (right, left), r, b, offset, speed)
+    elif platform == "skid_steer":
+        wheel_joints, centres, centre = _skid_wheels(tree, continuous, poses, base_pose)
+        offset = np.array([centre[0], centre[1], 0.0])
+        b = float(abs(centres[2][1] - centres[0][1]) / 2) if half_track is None else float(half_track)
+        r = _wheel_radius(tree, wheel_joints[0], wheel_radius, directory)
+        speed = _wheel_speed(wheel_joints)
+        wheelbase = float(abs(centres[0][0] - centres[1][0]))
+        platform_model = _build(
+            SkidSteer, options, wheel_radius=r, half_track=b, wheelbase=wheelbase, wheel_speed_max=speed
         )
-    else:
-        platform_model = Omnidirectional()
-        summary_extra = dict(platform_limits="platform velocity limits: none (omnidirectional, not in URDF)")
+        summary_extra = _wheel_summary(
+            platform_model, (wheel_joints[0], wheel_joints[2]), r, b, offset, speed
+        )
+    else:  # omnidirectional, fixed, any other kind: q_p at the base frame
+        platform_model = _build(platform_class(platform), options)
+        summary_extra = dict(platform_limits=f"platform velocity limits: none ({platform}, not in URDF)")
+    wheel_pair = tuple(wheel_joints) or None
     platform_pose = base_pose @ spatial.as_matrix(spatial.transform(None, tuple(offset)))
 
     # arms
@@ -642,11 +693,7 @@ def read_urdf(
         platform_visuals=_visuals(tree, platform_links, platform_pose, poses, directory, materials, missing),
     )
     body, wheel = _platform_inertials(tree, platform_links, platform_pose, poses, wheel_pair)
-    efforts: list[float | None] = []
-    if isinstance(platform_model, DifferentialDrive) and wheel_pair is not None:
-        efforts += [None if j.limit is None else _limit(j.limit.effort) for j in wheel_pair]
-    else:
-        efforts += [None] * platform_model.n_eta
+    efforts = _platform_efforts(platform_model, wheel_joints)
     efforts += [j.effort_max for a in arms for j in a.joints]
     summary = UrdfSummary(
         path=str(file),
@@ -662,6 +709,67 @@ def read_urdf(
         **summary_extra,
     )
     return UrdfModel(robot, summary, body, wheel, tuple(efforts))
+
+
+def _wheel_radius(tree, joint, given: float | None, directory: str) -> float:
+    if given is not None:
+        return float(given)
+    r = _geometry_radius(tree.links[joint.child], _axis(joint), directory)
+    if r is None:
+        raise ModelError(
+            f"URDF link {joint.child!r}: no cylinder, sphere or mesh gives the wheel radius; pass wheel_radius="
+        )
+    return r
+
+
+def _wheel_speed(joints) -> float | None:
+    """The smallest velocity limit of the wheel joints, None unless every one gives one."""
+    speeds = [j.limit.velocity for j in joints if j.limit is not None and _limit(j.limit.velocity)]
+    return min(speeds) if len(speeds) == len(joints) else None
+
+
+def _build(cls, options: Mapping[str, float], **read):
+    """The platform from the values read, ``platform_options`` added (ModelError naming a wrong key)."""
+    allowed = [f.name for f in fields(cls) if f.init]
+    for key in options:
+        if key not in allowed:
+            raise ModelError(
+                f"platform_options: {key!r} is not a parameter of {cls.__name__} (allowed: {', '.join(allowed)})"
+            )
+    return cls(**{**{k: v for k, v in read.items() if k in allowed}, **options})
+
+
+def _wheel_summary(platform: Platform, sides, r: float, b: float, offset, speed: float | None) -> dict:
+    if speed is None:
+        limits_text = "platform velocity limits: none (the wheel joints give no velocity limit)"
+    else:
+        v, w = platform.velocity_limits or (r * speed, r * speed / b)
+        limits_text = (
+            f"platform velocity limits from the wheel speed limit {speed:.6g} rad/s: the diamond "
+            f"|v|/{v:.6g} + |ω|/{w:.6g} ≤ 1; normalised measures use its vertices "
+            f"v_max = {v:.6g} m/s, ω_max = {w:.6g} rad/s"
+        )
+    return dict(
+        wheels=(sides[0].name, sides[1].name),
+        wheel_radius=float(r),
+        half_track=b,
+        reference_point=(float(offset[0]), float(offset[1])),
+        platform_limits=limits_text,
+    )
+
+
+def _platform_efforts(platform: Platform, wheel_joints) -> list[float | None]:
+    """Effort limits of the platform's actuators: per actuator the sum of its wheels' joint efforts (None
+    where one is missing); None for a platform without driven wheels."""
+    if not platform.wheel_actuated:
+        return [None] * platform.n_eta
+    efforts: list[float | None] = []
+    for k in range(platform.n_eta):
+        joints = [j for j, w in zip(wheel_joints, platform.wheels()) if w.actuator == k]
+        values = [None if j.limit is None else _limit(j.limit.effort) for j in joints]
+        known = [v for v in values if v is not None]
+        efforts.append(float(sum(known)) if len(known) == len(values) else None)
+    return efforts
 
 
 def _car(tree, passive, groups, poses, base_pose, offset, wheel_pair) -> CarLike:
@@ -707,12 +815,15 @@ def load_urdf(
     half_track: float | None = None,
     name: str | None = None,
     locked: Mapping[str, float] | None = None,
+    platform_options: Mapping[str, float] | None = None,
 ) -> MobileManipulator:
     """A :class:`mobman.MobileManipulator` from a URDF file in one line (:func:`read_urdf`'s robot).
 
     >>> robot = load_urdf("tiago.urdf", tip="arm_tool_link")  # doctest: +SKIP
     """
-    return read_urdf(path, tip, base, platform, wheels, wheel_radius, half_track, name, locked).robot
+    return read_urdf(
+        path, tip, base, platform, wheels, wheel_radius, half_track, name, locked, platform_options
+    ).robot
 
 
 def inspect_urdf(path: str | os.PathLike[str], **options: Any) -> UrdfSummary:
@@ -787,10 +898,13 @@ def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
     links = [Link("base_footprint", inertial=inertial, visuals=_u_visuals(robot.platform_visuals))]
     joints: list = []
     platform = robot.platform
-    if isinstance(platform, DifferentialDrive):
-        r, b = platform.wheel_radius, platform.half_track
-        for side, y in (("wheel_right", -b), ("wheel_left", b)):
-            link, joint = _wheel(side, "base_footprint", (0.0, y, r), r, platform.wheel_speed_max, wheel)
+    if platform.wheel_actuated:
+        speeds = platform.actuator_speed_limits
+        names = _wheel_names(platform)
+        for name, site in zip(names, platform.wheels()):
+            speed = None if speeds is None or site.actuator is None else speeds[site.actuator]
+            xyz = (site.x, site.y, site.radius)
+            link, joint = _wheel(name, "base_footprint", xyz, site.radius, speed, wheel)
             links.append(link)
             joints.append(joint)
     elif isinstance(platform, CarLike):
@@ -816,9 +930,19 @@ def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
         link, joint = _wheel("wheel_front", "steering_link", (0.0, 0.0, 0.0), r, None, None)
         links.append(link)
         joints.append(joint)
-    elif not isinstance(platform, Omnidirectional):
+    elif platform.wheels():
         raise ModelError(f"write_urdf: no URDF form for a {type(platform).__name__} platform")
     return links, joints
+
+
+def _wheel_names(platform: Platform) -> list[str]:
+    """wheel_right, wheel_left for two driven wheels; wheel_front_right, wheel_rear_right, … for more."""
+    sites = platform.wheels()
+    if len(sites) == 2:
+        return ["wheel_right" if site.y < 0 else "wheel_left" for site in sites]
+    return [
+        f"wheel_{'front' if site.x > 0 else 'rear'}_{'right' if site.y < 0 else 'left'}" for site in sites
+    ]
 
 
 def _limit_value(value: float):
@@ -836,8 +960,8 @@ def write_urdf(
 
     The platform link is ``base_footprint``; arm ``i``'s joints keep their names (prefixed by the arm's name
     when there are several arms) and end in the fixed joint to ``<prefix>tool_link``. Read it back with
-    ``read_urdf(path, tip=[tool links], platform=...)`` (``"car"`` for a car, ``"omnidirectional"`` for a
-    holonomic platform): :func:`urdf_tips` gives the tips. Returns the path written.
+    ``read_urdf(path, tip=[tool links], platform=...)`` (the platform's ``kind``: ``"car"`` for a car,
+    ``"omnidirectional"`` for a holonomic platform, …): :func:`urdf_tips` gives the tips. Returns the path written.
     """
     from yourdfpy import URDF, Inertial, Limit, Link, Robot
     from yourdfpy import Joint as UJoint

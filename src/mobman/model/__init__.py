@@ -1,7 +1,16 @@
 """What a robot is: platforms, arms, mounts, the whole mobile manipulator, tasks and the papers' robots."""
 
 from mobman.model.arm import Arm, Joint, LinkInertial
-from mobman.model.platform import CarLike, DifferentialDrive, Omnidirectional, Platform
+from mobman.model.platforms import (
+    CarLike,
+    DifferentialDrive,
+    Fixed,
+    Omnidirectional,
+    Platform,
+    SkidSteer,
+    platform_class,
+    platform_kinds,
+)
 from mobman.model.robot import Frames, MobileManipulator, Mount
 from mobman.model.tasks import (
     ElbowAngle,
@@ -26,6 +35,7 @@ __all__ = [
     "ElbowAngle",
     "Elevation",
     "EulerAngles",
+    "Fixed",
     "Frames",
     "FunctionTask",
     "Joint",
@@ -38,8 +48,11 @@ __all__ = [
     "Platform",
     "Pose",
     "Position",
+    "SkidSteer",
     "Stack",
     "Task",
+    "platform_class",
+    "platform_kinds",
     "stack",
     "task_class",
     "task_kinds",

@@ -22,7 +22,7 @@ import numpy.typing as npt
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, LinkInertial
-from mobman.model.platform import DifferentialDrive, Platform
+from mobman.model.platforms import Platform
 from mobman.model.spatial import Transform
 from mobman.model.visual import Visual
 
@@ -376,10 +376,6 @@ class MobileManipulator:
 
 
 def actuator_names(robot: MobileManipulator) -> tuple[str, ...]:
-    """The actuators of a robot in τ order: both wheels of a differential drive (or one per platform
-    quasi-velocity), then the arm joints."""
-    if isinstance(robot.platform, DifferentialDrive):
-        platform: tuple[str, ...] = ("wheel_right", "wheel_left")
-    else:
-        platform = tuple(f"platform_{n}" for n in robot.platform.control_names)
-    return platform + tuple(robot.coordinate_names[robot.n_platform :])
+    """The actuators of a robot in τ order: the platform's (``platform.actuator_names``: its driven wheels, or
+    one per quasi-velocity), then the arm joints."""
+    return robot.platform.actuator_names + tuple(robot.coordinate_names[robot.n_platform :])

@@ -16,7 +16,7 @@ from mobman import checks
 from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
-from mobman.model.platform import CarLike, DifferentialDrive
+from mobman.model.platforms import CarLike, DifferentialDrive
 from mobman.model.robot import MobileManipulator, Mount
 from mobman.model.tasks import Elevation, PlanarAngle, Pose, Position, stack
 

@@ -39,7 +39,6 @@ from mobman import kinematics, manipulability, redundancy
 from mobman.dynamics import DynamicModel, ellipsoids
 from mobman.errors import InputError
 from mobman.io import trajectories
-from mobman.model.platform import CarLike, DifferentialDrive
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import ROBOTS, build
 from mobman.model.tasks import Position
@@ -299,42 +298,39 @@ def _mesh(visual: Visual) -> trimesh.Trimesh:
 def _platform_shapes(robot: MobileManipulator) -> tuple[tuple[Visual, ...], float]:
     """Generated platform body, wheels and mount pillars (for a platform without visuals), and the ground
     height."""
-    platform = robot.platform
-    wheels: tuple[tuple[float, float], ...]
-    if isinstance(platform, DifferentialDrive):
-        r, b = platform.wheel_radius, platform.half_track
-        length, width, x0, wheels = 2.4 * b, 1.5 * b, 0.0, ((0.0, b), (0.0, -b))
-    elif isinstance(platform, CarLike):
-        r, b = 0.15 * platform.length, 0.3 * platform.length
-        length, width, x0 = 1.4 * platform.length, 1.6 * b, platform.length / 2
-        wheels = ((0.0, b), (0.0, -b), (platform.length, b), (platform.length, -b))
-    else:
-        r, b = 0.08, 0.25
-        length, width, x0, wheels = 0.6, 0.5, 0.0, ()
-    h = r
+    box, wheels = robot.platform.footprint(), robot.platform.wheels()
+    h = box.height
     body = Visual(
-        "box", _pose(np.eye(3), (x0, 0.0, -h / 2)), (length, width, h), rgba=_rgba(BODY_COLOR), name="body"
+        "box",
+        _pose(np.eye(3), (box.x_centre, 0.0, -h / 2)),
+        (box.length, box.width, h),
+        rgba=_rgba(BODY_COLOR),
+        name="body",
     )
     turn = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])  # wheel axis along y
     shapes = [body] + [
         Visual(
-            "cylinder", _pose(turn, (x, y, -h / 2)), (r, 0.4 * r), rgba=_rgba(WHEEL_COLOR), name=f"wheel{i}"
+            "cylinder",
+            _pose(turn, (w.x, w.y, -h / 2)),
+            (w.radius, 0.4 * w.radius),
+            rgba=_rgba(WHEEL_COLOR),
+            name=f"wheel{i}",
         )
-        for i, (x, y) in enumerate(wheels)
+        for i, w in enumerate(wheels)
     ]
     # a pillar from the deck up to each arm mounted above it
     shapes += [
         Visual(
             "cylinder",
             _pose(np.eye(3), (m.x, m.y, m.z / 2)),
-            (0.6 * r, m.z),
+            (0.6 * h, m.z),
             rgba=_rgba(BODY_COLOR),
             name=f"mount{i}",
         )
         for i, m in enumerate(robot.mounts)
         if m.z > 1e-6
     ]
-    return tuple(shapes), -h / 2 - r
+    return tuple(shapes), -h / 2 - max((w.radius for w in wheels), default=h)
 
 
 def _pose(r: np.ndarray, p) -> tuple[float, ...]:
