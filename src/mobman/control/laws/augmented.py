@@ -8,7 +8,9 @@ satisfied by q̇ = S η); the step's ``det`` is |det| of Korayem's n_q × n_q ma
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
+import jax
 import jax.numpy as jnp
 import numpy.typing as npt
 
@@ -17,6 +19,9 @@ from mobman.control.laws.base import Law, LawStep, apply_gain, damped_inverse, p
 from mobman.errors import ModelError
 from mobman.model.spatial import matvec
 from mobman.model.tasks import Task, stack
+
+if TYPE_CHECKING:
+    from mobman.model.robot import MobileManipulator
 
 
 @pytree("eta", "damping", "sigma_min", "limit_ratio", "saturated", "damped", "det")
@@ -62,7 +67,15 @@ class AugmentedJacobian(Law):
         """The task stacked with the extra rows."""
         return stack(task, self.rows)
 
-    def __call__(self, robot, task, q, t, xi_star, xi_star_dot) -> AugmentedStep:
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        task: Task | None,
+        q: jax.Array,
+        t: jax.Array,
+        xi_star: jax.Array,
+        xi_star_dot: jax.Array,
+    ) -> AugmentedStep:
         task = robot.task if task is None else task
         if task.dim + self.rows.dim != robot.n_eta:
             raise ModelError(

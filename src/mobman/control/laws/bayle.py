@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import jax
 import numpy as np
 import numpy.typing as npt
 
@@ -46,13 +47,13 @@ class BaylePseudoInverse(PseudoInverseLaw):
             raise ModelError(f"BaylePseudoInverse: k must be a scalar ≥ 0, got {self.k!r}")
         self.check_options("BaylePseudoInverse")
 
-    def feedback_term(self, e):
+    def feedback_term(self, e: jax.Array) -> jax.Array:
         return apply_gain(self.W, e, "W")
 
-    def self_motion(self, projector, s_scaled, grad):
+    def self_motion(self, projector: jax.Array, s_scaled: jax.Array, grad: jax.Array) -> jax.Array:
         # Hᵀ ∇P with H = S R (I − J⁺J) (n_q × δ), as (I − J⁺J)ᵀ ((S R)ᵀ ∇P): two products with vectors
         # instead of forming H
-        return -np.asarray(self.k) * matvec(projector.T, matvec(s_scaled.T, grad))
+        return -matvec(projector.T, matvec(s_scaled.T, grad)) * np.asarray(self.k)
 
 
 __all__ = ["BaylePseudoInverse"]

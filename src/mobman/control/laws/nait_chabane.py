@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import jax
 import jax.numpy as jnp
 import numpy.typing as npt
 
@@ -39,10 +40,10 @@ class NaitChabane(PseudoInverseLaw):
             object.__setattr__(self, "feedback", positive_gain(self.feedback, "feedback", "NaitChabane"))
         self.check_options("NaitChabane")
 
-    def feedback_term(self, e):
+    def feedback_term(self, e: jax.Array) -> jax.Array:
         return jnp.zeros_like(e) if self.feedback is None else apply_gain(self.feedback, e, "feedback")
 
-    def self_motion(self, projector, s_scaled, grad):
+    def self_motion(self, projector: jax.Array, s_scaled: jax.Array, grad: jax.Array) -> jax.Array:
         return -matvec(projector, apply_gain(self.W, matvec(s_scaled.T, grad), "W"))
 
 

@@ -15,6 +15,8 @@ from mobman.model.spatial import matmul, matvec
 
 if TYPE_CHECKING:
     from mobman.control.criteria import Criterion
+    from mobman.model.robot import MobileManipulator
+    from mobman.model.tasks import Task
 
 
 @pytree("eta", "damping", "sigma_min", "limit_ratio", "saturated", "damped", "P")
@@ -33,13 +35,21 @@ class PseudoInverseLaw(Law):
 
     criterion: Criterion | None = None
 
-    def feedback_term(self, e: jnp.ndarray) -> jnp.ndarray:
+    def feedback_term(self, e: jax.Array) -> jax.Array:
         raise NotImplementedError
 
-    def self_motion(self, projector: jnp.ndarray, s_scaled: jnp.ndarray, grad: jnp.ndarray) -> jnp.ndarray:
+    def self_motion(self, projector: jax.Array, s_scaled: jax.Array, grad: jax.Array) -> jax.Array:
         raise NotImplementedError
 
-    def __call__(self, robot, task, q, t, xi_star, xi_star_dot) -> PseudoInverseStep:
+    def __call__(
+        self,
+        robot: MobileManipulator,
+        task: Task | None,
+        q: jax.Array,
+        t: jax.Array,
+        xi_star: jax.Array,
+        xi_star_dot: jax.Array,
+    ) -> PseudoInverseStep:
         task = robot.task if task is None else task
         frames = robot.frames(q)
         xi = task.value(robot, q, frames)

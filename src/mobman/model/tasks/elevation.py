@@ -3,10 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
+import jax
 import jax.numpy as jnp
 
+from mobman.model.tasks.base import SymbolicFrames
 from mobman.model.tasks.orientation import OrientationTask
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 
 @dataclass(frozen=True)
@@ -25,11 +31,11 @@ class Elevation(OrientationTask):
     def names(self) -> tuple[str, ...]:
         return ("elevation",)
 
-    def angles(self, r):
+    def angles(self, r: jax.Array) -> jax.Array:
         return jnp.arctan2(r[2, 0], r[2, 2])[None]
 
-    def margin(self, r):
+    def margin(self, r: jax.Array) -> jax.Array:
         return jnp.hypot(r[2, 0], r[2, 2])
 
-    def symbolic_angles(self, r, kin):
+    def symbolic_angles(self, r: sp.Matrix, kin: SymbolicFrames) -> list[sp.Expr]:
         return [kin.angle(r[2, 0], r[2, 2])]

@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import jax
 
 from mobman.errors import ModelError
 from mobman.model import spatial
-from mobman.model.tasks.base import rows
+from mobman.model.tasks.base import SymbolicFrames, rows
 from mobman.model.tasks.orientation import OrientationTask
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 
 @dataclass(frozen=True)
@@ -40,13 +46,13 @@ class EulerAngles(OrientationTask):
     def names(self) -> tuple[str, ...]:
         return tuple(f"{self.sequence.lower()}_{i + 1}" for i in self.select)
 
-    def angles(self, r):
+    def angles(self, r: jax.Array) -> jax.Array:
         return rows(spatial.euler_angles(r, self.sequence), self.select)
 
-    def margin(self, r):
+    def margin(self, r: jax.Array) -> jax.Array:
         return spatial.gimbal_margin(r, self.sequence)
 
-    def symbolic_angles(self, r, kin):
+    def symbolic_angles(self, r: sp.Matrix, kin: SymbolicFrames) -> list[sp.Expr]:
         """The formulas of :func:`~mobman.model.spatial.euler_angles`, entry by entry."""
         import sympy as sp
 

@@ -4,13 +4,19 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
 from mobman.errors import ModelError
-from mobman.model.tasks.base import Task
+from mobman.model.tasks.base import SymbolicFrames, Task
+
+if TYPE_CHECKING:
+    import sympy as sp
+
+    from mobman.model.robot import Frames, MobileManipulator
 
 
 @dataclass(frozen=True)
@@ -36,10 +42,10 @@ class FunctionTask(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(self.labels)
 
-    def value(self, robot, q, frames):
+    def value(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         return jnp.reshape(jnp.asarray(self.fn(q)), (self.dim,))
 
-    def symbolic(self, kin):
+    def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         import sympy as sp
 
         q: Any = np.empty(len(kin.q), dtype=object)  # SymPy symbols through the jax.numpy function

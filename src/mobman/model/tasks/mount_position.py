@@ -3,9 +3,17 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import jax
 
 from mobman.model.frame_jacobian import frame_jacobian
-from mobman.model.tasks.base import Task, check_arm, component_indices, rows
+from mobman.model.tasks.base import SymbolicFrames, Task, check_arm, component_indices, rows
+
+if TYPE_CHECKING:
+    import sympy as sp
+
+    from mobman.model.robot import Frames, MobileManipulator
 
 
 @dataclass(frozen=True)
@@ -24,19 +32,19 @@ class MountPosition(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(f"{c}_f" for c in self.components)
 
-    def check(self, robot) -> None:
+    def check(self, robot: MobileManipulator) -> None:
         check_arm(robot, self.arm)
 
-    def _frame(self, frames):
+    def _frame(self, frames: Frames) -> tuple[jax.Array, jax.Array]:
         return frames.mounts[self.arm]
 
-    def value(self, robot, q, frames):
+    def value(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         return rows(self._frame(frames)[1], component_indices(self.components))
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         _, _, lin, _ = frame_jacobian(robot, self._frame, None, -1, q)
         return rows(lin, component_indices(self.components))
 
-    def symbolic(self, kin):
+    def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         p = kin.mount_pose(self.arm)[1]
         return [p[i] for i in component_indices(self.components)]

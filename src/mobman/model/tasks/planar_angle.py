@@ -3,12 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
+import jax
 import jax.numpy as jnp
 
 from mobman.errors import ModelError
 from mobman.model import spatial
+from mobman.model.tasks.base import SymbolicFrames
 from mobman.model.tasks.orientation import OrientationTask
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 HEADING_SEQUENCES = ("ZYX", "ZXY")
 """The Euler sets whose yaw :class:`PlanarAngle` gives."""
@@ -41,15 +47,15 @@ class PlanarAngle(OrientationTask):
     def names(self) -> tuple[str, ...]:
         return ("angle",)
 
-    def angles(self, r):
+    def angles(self, r: jax.Array) -> jax.Array:
         if self.sequence == "ZYX":
             return jnp.arctan2(r[1, 0], r[0, 0])[None]
         return jnp.arctan2(-r[0, 1], r[1, 1])[None]
 
-    def margin(self, r):
+    def margin(self, r: jax.Array) -> jax.Array:
         return spatial.gimbal_margin(r, self.sequence)
 
-    def symbolic_angles(self, r, kin):
+    def symbolic_angles(self, r: sp.Matrix, kin: SymbolicFrames) -> list[sp.Expr]:
         if self.sequence == "ZYX":
             return [kin.angle(r[1, 0], r[0, 0])]
         return [kin.angle(-r[0, 1], r[1, 1])]

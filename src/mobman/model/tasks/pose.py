@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
+import jax
 import jax.numpy as jnp
 
 from mobman.model import so3
 from mobman.model.frame_jacobian import frame_jacobian
 from mobman.model.tasks.base import Task, check_arm, last_moving
+
+if TYPE_CHECKING:
+    from mobman.model.robot import Frames, MobileManipulator
 
 
 @dataclass(frozen=True)
@@ -47,22 +52,22 @@ class Pose(Task):
     def euclidean(self) -> bool:
         return False
 
-    def check(self, robot) -> None:
+    def check(self, robot: MobileManipulator) -> None:
         check_arm(robot, self.arm, self.link)
 
-    def _frame(self, frames):
+    def _frame(self, frames: Frames) -> tuple[jax.Array, jax.Array]:
         rs, ps = frames.links[self.arm]
         return rs[self.link], ps[self.link]
 
-    def value(self, robot, q, frames):
+    def value(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         r, p = self._frame(frames)
         return jnp.concatenate([p, so3.log(r)])
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         upto = last_moving(robot, self.arm, self.link)
         _, _, lin, omega = frame_jacobian(robot, self._frame, self.arm, upto, q)
         return jnp.concatenate([lin, omega], axis=0)
 
-    def error(self, xi_desired, xi):
+    def error(self, xi_desired: jax.Array, xi: jax.Array) -> jax.Array:
         position = xi_desired[..., :3] - xi[..., :3]
         return jnp.concatenate([position, so3.error(xi_desired[..., 3:], xi[..., 3:])], axis=-1)

@@ -3,10 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import jax
 
 from mobman.model import spatial
 from mobman.model.frame_jacobian import frame_jacobian
-from mobman.model.tasks.base import Task, check_arm, component_indices, last_moving, rows
+from mobman.model.tasks.base import SymbolicFrames, Task, check_arm, component_indices, last_moving, rows
+
+if TYPE_CHECKING:
+    import sympy as sp
+
+    from mobman.model.robot import Frames, MobileManipulator
 
 
 @dataclass(frozen=True)
@@ -32,23 +40,23 @@ class Position(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(f"{c}_{self.label}" for c in self.components)
 
-    def check(self, robot) -> None:
+    def check(self, robot: MobileManipulator) -> None:
         check_arm(robot, self.arm, self.link)
 
-    def _frame(self, frames):
+    def _frame(self, frames: Frames) -> tuple[jax.Array, jax.Array]:
         """The link's rotation and the task point."""
         rs, ps = frames.links[self.arm]
         return rs[self.link], ps[self.link] + spatial.matvec_constant(rs[self.link], self.point)
 
-    def value(self, robot, q, frames):
+    def value(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         return rows(self._frame(frames)[1], component_indices(self.components))
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         upto = last_moving(robot, self.arm, self.link)
         _, _, lin, _ = frame_jacobian(robot, self._frame, self.arm, upto, q)
         return rows(lin, component_indices(self.components))
 
-    def symbolic(self, kin):
+    def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         r, p = kin.link_poses(self.arm)[self.link]
         point = p + r * kin.vector(self.point)
         return [point[i] for i in component_indices(self.components)]

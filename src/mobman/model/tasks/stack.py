@@ -3,11 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
+import jax
 import jax.numpy as jnp
 
 from mobman.errors import ModelError
-from mobman.model.tasks.base import Task
+from mobman.model.tasks.base import SymbolicFrames, Task
+
+if TYPE_CHECKING:
+    import sympy as sp
+
+    from mobman.model.robot import Frames, MobileManipulator
 
 
 @dataclass(frozen=True)
@@ -25,7 +32,7 @@ class Stack(Task):
         object.__setattr__(self, "tasks", tasks)
 
     @classmethod
-    def from_table(cls, values):
+    def from_table(cls, values: dict[str, Any]) -> Stack:
         """The nested stacks of a file flattened (:func:`stack`)."""
         return stack(*values.get("tasks", ()))
 
@@ -33,27 +40,27 @@ class Stack(Task):
     def names(self) -> tuple[str, ...]:
         return tuple(n for t in self.tasks for n in t.names)
 
-    def check(self, robot) -> None:
+    def check(self, robot: MobileManipulator) -> None:
         for t in self.tasks:
             t.check(robot)
 
-    def value(self, robot, q, frames):
+    def value(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         return jnp.concatenate([t.value(robot, q, frames) for t in self.tasks])
 
-    def representation_singular(self, robot, q, frames):
+    def representation_singular(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         return jnp.any(jnp.stack([t.representation_singular(robot, q, frames) for t in self.tasks]))
 
-    def jacobian(self, robot, q, frames):
+    def jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         return jnp.concatenate([t.jacobian(robot, q, frames) for t in self.tasks], axis=0)
 
-    def symbolic(self, kin):
+    def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         return [e for t in self.tasks for e in t.symbolic(kin)]
 
     @property
     def euclidean(self) -> bool:
         return all(t.euclidean for t in self.tasks)
 
-    def error(self, xi_desired, xi):
+    def error(self, xi_desired: jax.Array, xi: jax.Array) -> jax.Array:
         """Each part's error on its rows (the difference when every part is euclidean)."""
         if self.euclidean:
             return xi_desired - xi
