@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import jax
-import numpy as np
+import jax.numpy as jnp
 import numpy.typing as npt
 
 from mobman.control._tree import pytree
@@ -53,7 +53,7 @@ class BaylePseudoInverse(PseudoInverseLaw):
     def self_motion(self, projector: jax.Array, s_scaled: jax.Array, grad: jax.Array) -> jax.Array:
         # Hᵀ ∇P with H = S R (I − J⁺J) (n_q × δ), as (I − J⁺J)ᵀ ((S R)ᵀ ∇P): two products with vectors
         # instead of forming H
-        return -matvec(projector.T, matvec(s_scaled.T, grad)) * np.asarray(self.k)
+        return -matvec(projector.T, matvec(s_scaled.T, grad)) * jnp.asarray(self.k)
 
 
 __all__ = ["BaylePseudoInverse"]

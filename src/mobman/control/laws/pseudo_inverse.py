@@ -10,11 +10,11 @@ import jax
 import jax.numpy as jnp
 
 from mobman.control._tree import pytree
+from mobman.control.criteria import Criterion
 from mobman.control.laws.base import Law, LawStep, damped_inverse
 from mobman.model.spatial import matmul, matvec
 
 if TYPE_CHECKING:
-    from mobman.control.criteria import Criterion
     from mobman.model.robot import MobileManipulator
     from mobman.model.tasks import Task
 
