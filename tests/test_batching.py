@@ -1,4 +1,4 @@
-"""Cache-blocked batching (mobman.batching): the same values as one vmap, for any batch shape."""
+"""Cache-blocked batching (mobman.engine.batched): the same values as one vmap, for any batch shape."""
 
 from __future__ import annotations
 
@@ -9,7 +9,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mobman import batching, kinematics, manipulability
+from mobman import kinematics, manipulability
+from mobman.engine import batched as batching
 from mobman.model import robots
 
 

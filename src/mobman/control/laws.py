@@ -55,8 +55,8 @@ import numpy as np
 from mobman.control._tree import pytree
 from mobman.control.criteria import Criterion
 from mobman.errors import ModelError
-from mobman.linalg import eigvalsh
 from mobman.model.spatial import matmul, matvec
+from mobman.model.spectra import eigvalsh
 from mobman.model.task import Task, stack
 
 

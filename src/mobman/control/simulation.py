@@ -36,9 +36,9 @@ import jax.numpy as jnp
 import numpy as np
 from jax.flatten_util import ravel_pytree
 
-from mobman.batching import across_cores
 from mobman.control.laws import AugmentedJacobian
 from mobman.control.references import Reference
+from mobman.engine.batched import across_cores
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import MobileManipulator

@@ -31,8 +31,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman import kinematics
-from mobman.batching import across_cores, blocked
 from mobman.dynamics.inertia import DynamicModel
+from mobman.engine.batched import batched
 from mobman.errors import InputError
 from mobman.model.platform import DifferentialDrive
 from mobman.model.robot import Frames
@@ -271,46 +271,39 @@ def actuation_matrix_one(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
 # --- batched public API --------------------------------------------------------------------------
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _mass(model, q):
-    return blocked(partial(mass_matrix_one, model))(q)
+    return mass_matrix_one(model, q)
 
 
-@across_cores({1: 1, 2: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1}, static=(0,))
 def _bias(model, q, q_dot):
-    return blocked(partial(bias_one, model))(q, q_dot)
+    return bias_one(model, q, q_dot)
 
 
-@across_cores({1: 1, 2: 1, 3: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1, 3: 1}, static=(0,))
 def _generalized_force(model, q, q_dot, q_ddot):
-    return blocked(partial(generalized_force_one, model))(q, q_dot, q_ddot)
+    return generalized_force_one(model, q, q_dot, q_ddot)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _gravity(model, q):
-    return blocked(partial(gravity_one, model))(q)
+    return gravity_one(model, q)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _potential(model, q):
-    return blocked(partial(potential_energy_one, model))(q)
+    return potential_energy_one(model, q)
 
 
-@across_cores({1: 1, 2: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1}, static=(0,))
 def _coriolis(model, q, q_dot):
-    return blocked(partial(coriolis_matrix_one, model))(q, q_dot)
+    return coriolis_matrix_one(model, q, q_dot)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _actuation(model, q):
-    return blocked(partial(actuation_matrix_one, model))(q)
+    return actuation_matrix_one(model, q)
 
 
 def validated_q(model: DynamicModel, q):
