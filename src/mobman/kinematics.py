@@ -21,7 +21,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from mobman.engine.batched import batched
+from mobman.engine.batched import batched, traced
 from mobman.errors import InputError, SingularConfigurationError
 from mobman.model.robot import MobileManipulator
 from mobman.model.task import Task
@@ -55,6 +55,8 @@ def validated_q(robot: MobileManipulator, q):
     checked on its device and passed on without a copy to the host."""
     if type(q) is np.ndarray:  # the common case first (a call for one configuration is mostly overhead)
         return robot.validate_q(q)
+    if traced(q):
+        return q
     if isinstance(q, jax.Array):
         return robot.validate_q_on_device(q)
     return robot.validate_q(q)
@@ -118,6 +120,8 @@ def frames(robot: MobileManipulator, q):
 
 def _vector(x, name: str, size: int) -> np.ndarray:
     """A finite float array (..., size), or InputError naming ``name``."""
+    if traced(x):
+        return x
     try:
         arr = np.asarray(x, dtype=float)
     except (TypeError, ValueError):
@@ -153,7 +157,7 @@ def inverse_velocity(
     q = validated_q(robot, q)
     xi_dot = jnp.asarray(_vector(xi_dot, "xi_dot", task.dim))
     jbar = reduced_jacobian(robot, q, task)
-    if not bool(jnp.all(jnp.isfinite(jbar))):
+    if not traced(jbar) and not bool(jnp.all(jnp.isfinite(jbar))):
         raise SingularConfigurationError(
             "inverse_velocity: J̄ holds NaN or infinite entries where the task's coordinates are singular as a "
             "representation (see representation_singular)"

@@ -35,7 +35,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman import kinematics as K
-from mobman.engine.batched import batched
+from mobman.engine.batched import batched, traced
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model import spatial, spectra
 from mobman.model.robot import MobileManipulator
@@ -101,6 +101,8 @@ def _measures_one(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
 
 
 def _as_jacobian(j) -> jnp.ndarray:
+    if traced(j):
+        return j
     # a float64 jax.Array passes as it is: a converted copy would leave jit's fast dispatch path (~35 µs)
     if isinstance(j, jax.Array) and j.dtype == jnp.float64:
         arr = j

@@ -94,6 +94,11 @@ def batched(
     return decorate
 
 
+def traced(x) -> bool:
+    """Whether ``x`` is an abstract value of a JAX transformation (no values to check)."""
+    return isinstance(x, jax.core.Tracer)
+
+
 def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1) -> Callable:
     """``fn`` of one or more arrays, vectorised over their (broadcast) leading dimensions.
 
@@ -256,4 +261,4 @@ def _pool(workers: int) -> ThreadPoolExecutor:
     return ThreadPoolExecutor(max_workers=workers, thread_name_prefix="mobman")
 
 
-__all__ = ["BLOCK", "MIN_SHARE", "WORKERS", "across_cores", "batched", "blocked"]
+__all__ = ["BLOCK", "MIN_SHARE", "WORKERS", "across_cores", "batched", "blocked", "traced"]

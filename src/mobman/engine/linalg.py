@@ -206,7 +206,7 @@ def _one_or_many(vectors: bool, sweeps: int):
     @solve.def_vmap
     def _batched(axis_size, in_batched, a):
         (batched,) = in_batched
-        out = _jacobi_sorted(a, vectors, sweeps) if batched else solve(a)
+        out = _jacobi_sorted(a, vectors, sweeps) if batched else _lapack(a, vectors)
         return out, jax.tree.map(lambda _: batched, out)
 
     return solve
