@@ -95,8 +95,8 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
     return {k: jnp.where(undefined, jnp.asarray(jnp.nan, v.dtype), v) for k, v in out.items()}
 
 
-def _measures_one(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
-    """The measures of one m × k Jacobian."""
+def measures_one(j: jnp.ndarray, rank: int | None = None) -> dict[str, jnp.ndarray]:
+    """The measures of one m × k Jacobian (as :func:`measures`), unvalidated: for traced code."""
     return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)
 
 
@@ -147,7 +147,7 @@ def measures(j, rank: int | None = None) -> dict[str, jnp.ndarray]:
     the r largest singular values (w = σ_1⋯σ_r, σ_min = σ_r). Rank-deficient: w = 0, w2 = 0, w5 = 1.
     A Jacobian with NaN or infinite entries raises InputError.
     """
-    return _measures_one(j, rank)
+    return measures_one(j, rank)
 
 
 def yoshikawa(j, rank: int | None = None) -> jnp.ndarray:
@@ -281,8 +281,9 @@ def analyze(robot: MobileManipulator, q, task: Task | None = None, rank: Rank = 
     return out
 
 
-def _jacobian_one_of(robot: MobileManipulator, task: Task, which: str, q: jnp.ndarray) -> jnp.ndarray:
-    """J_a, J̄ or J̄_N of one configuration (the kernel of the batched functions below)."""
+def jacobian_one(robot: MobileManipulator, task: Task, which: str, q: jnp.ndarray) -> jnp.ndarray:
+    """J_a, J̄ or J̄_N (``which``: ``"arm"``, ``"system"``, ``"system_normalized"``) of one configuration
+    ``q`` (n_q,), unvalidated: for traced code (the kernel of the batched functions below)."""
     if which == "arm":
         return K.jacobian_one(robot, task, q)[:, robot.arm_slice(0)]
     j = K.reduced_jacobian_one(robot, task, q)
@@ -339,8 +340,8 @@ def jacobian_and_measures(
     representation (:func:`mobman.kinematics.representation_singular`), J and the measures hold NaN: this
     fast path does not test its output (:func:`measures` of such a J raises InputError).
     """
-    j = _jacobian_one_of(robot, task, which, q)
-    return j, _measures_one(j, rank)
+    j = jacobian_one(robot, task, which, q)
+    return j, measures_one(j, rank)
 
 
 def _validated_gradient_options(
@@ -373,7 +374,7 @@ def gradient(
     """
 
     def value(qq):
-        return _measures_one(_jacobian_one_of(robot, task, which, qq), rank)[measure]
+        return measures_one(jacobian_one(robot, task, which, qq), rank)[measure]
 
     return jax.grad(value)(q)
 
@@ -388,7 +389,9 @@ __all__ = [
     "gradient",
     "inverse_condition",
     "jacobian_and_measures",
+    "jacobian_one",
     "measures",
+    "measures_one",
     "singular_values",
     "system_jacobian",
     "yoshikawa",

@@ -45,12 +45,12 @@ class Criterion:
 
 
 def measure_jacobian(robot, q, task, which: str) -> jnp.ndarray:
-    """The Jacobian whose ellipsoid a manipulability measure describes: J_a (arm), J̄ or J̄_N = J̄ R."""
+    """The Jacobian whose ellipsoid a manipulability measure describes: J_a (arm), J̄ or J̄_N = J̄ R, of one
+    configuration q (n_q,) (traced code: no validation)."""
+    from mobman import kinematics as K
     from mobman import manipulability as mp
 
-    if which == "arm":
-        return mp.arm_jacobian(robot, q, task=task)
-    return mp.system_jacobian(robot, q, task=task, normalized=which == "system_normalized")
+    return mp.jacobian_one(robot, K.resolve_task(robot, task), which, q)
 
 
 @pytree("power")
@@ -96,7 +96,7 @@ class Manipulability(Criterion):
                 f"{robot.name}: the normalised measure needs velocity limits for every quasi-velocity"
             )
         jac = measure_jacobian(robot, q, task, self.which)
-        return self.sign * mp.measures(jac, rank=self.rank)[self.measure] ** self.power
+        return self.sign * mp.measures_one(jac, rank=self.rank)[self.measure] ** self.power
 
 
 @pytree()

@@ -254,7 +254,7 @@ def _measure_chunk(robot, task, which, q):
     from mobman import manipulability as mp
     from mobman.control.criteria import measure_jacobian
 
-    return mp.measures(measure_jacobian(robot, q, task, which))
+    return jax.vmap(lambda qq: mp.measures_one(measure_jacobian(robot, qq, task, which)))(q)
 
 
 def compute_measures(robot, q, task, names: Sequence[str]) -> dict[str, np.ndarray]:
