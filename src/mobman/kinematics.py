@@ -1,8 +1,11 @@
 """Batched, differentiable kinematics of mobile manipulators (Bayle §3–4).
 
 Every function takes a robot, configurations ``q`` of shape (..., n_q) and optionally a task (the robot's
-own task by default), and returns arrays with the same leading dimensions. Functions are compiled with the
-robot and the task as static arguments, so a second call with the same shapes does not retrace.
+own task by default), and returns arrays with the same leading dimensions. Each is written for one
+configuration and batched by :func:`mobman.engine.batched.batched`: validated once, compiled with the robot and
+the task as static arguments (a second call with the same shapes does not retrace), evaluated in blocks.
+Traced code (inside ``jit``, ``grad``, ``vmap``) calls the per-configuration kernels
+(:func:`jacobian_one`, :func:`reduced_jacobian_one`).
 
 - :func:`forward` ξ = f(q)
 - :func:`jacobian` J = ∂f/∂q (geometric for position/orientation tasks, autodiff otherwise)
