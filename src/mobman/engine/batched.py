@@ -88,7 +88,7 @@ def batched(
             def public(*args, **kwargs):
                 return compiled(*validate(*args, **kwargs))
 
-        public.one = fn
+        public.one = fn  # type: ignore[attr-defined]
         return public
 
     return decorate

@@ -26,7 +26,9 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, TypeVar
+
+F = TypeVar("F", bound=Callable)
 
 _DROP_INS: dict[str, Callable] = {}
 _DEFINITIONS: dict[str, Callable] = {}
@@ -34,10 +36,10 @@ _DEFINITIONS: dict[str, Callable] = {}
 
 @dataclass(frozen=True)
 class Kernel:
-    """A definition and the drop-in that replaces it (None when the engine has none)."""
+    """A definition and the drop-in that replaces it (None where one of them is not registered)."""
 
     name: str
-    definition: Callable
+    definition: Callable | None
     drop_in: Callable | None
 
 
@@ -51,14 +53,14 @@ def definition(fn: Callable) -> Callable:
     def call(*args, **kwargs):
         return _DROP_INS.get(name, fn)(*args, **kwargs)
 
-    call.definition = fn
+    call.definition = fn  # type: ignore[attr-defined]
     return call
 
 
-def drop_in(name: str) -> Callable[[Callable], Callable]:
+def drop_in(name: str) -> Callable[[F], F]:
     """Register the decorated function as the drop-in for the definition ``name`` (``module.function``)."""
 
-    def register(fn: Callable) -> Callable:
+    def register(fn: F) -> F:
         if name in _DROP_INS and _DROP_INS[name] is not fn:
             raise ValueError(f"a drop-in for {name} is already registered ({_DROP_INS[name].__qualname__})")
         _DROP_INS[name] = fn

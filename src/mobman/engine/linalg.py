@@ -237,7 +237,7 @@ def _sort_descending(w: jnp.ndarray, v: jnp.ndarray | None = None):
                 s = swap[..., None]
                 cols[i], cols[i + 1] = jnp.where(s, cols[i + 1], cols[i]), jnp.where(s, cols[i], cols[i + 1])
     w = jnp.stack(x, axis=-1)
-    return w if v is None else (w, jnp.stack(cols, axis=-1))
+    return w if cols is None else (w, jnp.stack(cols, axis=-1))
 
 
 @drop_in("mobman.model.spectra.eigvalsh")

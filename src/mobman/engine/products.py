@@ -37,7 +37,7 @@ def matmul_expanded(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     return sum(terms[1:], terms[0])
 
 
-def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float]) -> jnp.ndarray | None:
+def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float] | np.ndarray) -> jnp.ndarray | None:
     """Σ_k w_k v_k for constant weights, written out over the nonzero ones (±1 without a product); None
     when every weight is zero."""
     terms = [
