@@ -27,8 +27,8 @@ import jax.numpy as jnp
 import numpy as np
 
 import mobman  # noqa: F401  (float64)
-from mobman import linalg
 from mobman.control import criteria, laws, references, simulate
+from mobman.engine import linalg
 from mobman.model import robots
 from mobman.model.tasks import Position
 

@@ -36,8 +36,8 @@ import jax.numpy as jnp
 import numpy as np
 
 import mobman  # noqa: F401  (float64)
-from mobman import batching
 from mobman import manipulability as mp
+from mobman.engine import batched as batching
 from mobman.model import MobileManipulator
 from mobman.model.robots import PANDA_LIMITS, PANDA_MODIFIED_DH, panda_differential
 from mobman.model.tasks import EulerAngles, Position, stack

@@ -1,4 +1,4 @@
-"""Cache-blocked batching (mobman.batching): the same values as one vmap, for any batch shape."""
+"""Cache-blocked batching (mobman.engine.batched): the same values as one vmap, for any batch shape."""
 
 from __future__ import annotations
 
@@ -9,7 +9,8 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mobman import batching, kinematics, manipulability
+from mobman import kinematics, manipulability
+from mobman.engine import batched as batching
 from mobman.model import robots
 
 
@@ -141,3 +142,29 @@ def test_public_functions_share_large_batches_between_threads(three_small_shares
     )
     for key, value in manipulability.measures(jbar).items():
         np.testing.assert_allclose(np.asarray(measures[key]), np.asarray(value), rtol=1e-13, atol=1e-15)
+
+
+# --- batched: the decorator of the public functions ---------------------------------------------------
+
+
+def test_batched_validates_once_and_broadcasts_the_batched_arguments():
+    """A function of one (3,) vector and one 2 × 3 matrix, a static scale: broadcast leading dimensions,
+    the validator called once per public call with the call's arguments, the plain function kept as .one."""
+    calls = []
+
+    def validate(x, m, scale=2.0):
+        calls.append(scale)
+        return np.asarray(x, dtype=float), np.asarray(m, dtype=float), float(scale)
+
+    @batching.batched({0: 1, 1: 2}, static=(2,), validate=validate)
+    def affine(x, m, scale=2.0):
+        """scale · m x"""
+        return scale * (m @ x)
+
+    rng = np.random.default_rng(5)
+    x, m = rng.normal(size=(4, 1, 3)), rng.normal(size=(6, 2, 3))
+    got = affine(x, m, scale=3.0)
+    assert got.shape == (4, 6, 2) and calls == [3.0]
+    np.testing.assert_allclose(got, 3.0 * np.einsum("...ij,...j->...i", m, x), rtol=1e-14)
+    np.testing.assert_allclose(affine.one(x[0, 0], m[0], 3.0), 3.0 * m[0] @ x[0, 0], rtol=1e-14)
+    assert affine.__doc__ == "scale · m x"

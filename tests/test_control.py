@@ -11,9 +11,10 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mobman import InputError, ModelError, SingularConfigurationError, batching, kinematics
+from mobman import InputError, ModelError, SingularConfigurationError, kinematics
 from mobman.control import criteria, laws, metrics, references, simulate
 from mobman.control.simulation import _step
+from mobman.engine import batched as batching
 from mobman.model import robots
 from mobman.model.tasks import FunctionTask, MountPosition, PlanarAngle, Position, elbow_angle, stack
 

@@ -3,7 +3,7 @@ imported. Every import counts, also those inside functions.
 
     cli → experiments → control, planning, dynamics → manipulability, redundancy, symbolic → kinematics → model
 
-with errors, checks and batching below everything; ``io`` imports only model, errors and checks and is imported
+with errors, checks and the engine below everything; ``io`` imports only model, errors and checks and is imported
 by cli, experiments, control, planning and dynamics; ``viz`` is imported only by cli and experiments.
 """
 
@@ -19,11 +19,10 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "mobman"
 LAYERS = {
     "mobman.errors": 0,
     "mobman.checks": 0,
-    "mobman.batching": 0,
+    "mobman.engine": 0,
     "mobman": 1,  # the package itself re-exports the errors and the model
     "mobman.model": 1,
     "mobman.kinematics": 2,
-    "mobman.linalg": 2,
     "mobman.manipulability": 3,
     "mobman.redundancy": 3,
     "mobman.symbolic": 3,

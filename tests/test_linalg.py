@@ -1,4 +1,4 @@
-"""The batched Jacobi eigenvalue solver of mobman.linalg against LAPACK, and its custom derivative rule against
+"""The batched Jacobi eigenvalue solver of mobman.engine.linalg against LAPACK, and its custom derivative rule against
 JAX's own eigvalsh derivative and finite differences."""
 
 import jax
@@ -6,8 +6,9 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from mobman import linalg
+from mobman.engine import linalg
 from mobman.errors import InputError
+from mobman.model import spectra
 
 RNG = np.random.default_rng(3)
 
@@ -104,9 +105,9 @@ def test_derivative_is_finite_at_repeated_eigenvalues_and_exact_for_the_trace(n)
 
 def test_gram_is_the_smaller_product():
     a = RNG.normal(size=(10, 3, 7))
-    np.testing.assert_allclose(linalg.gram(jnp.asarray(a)), a @ np.swapaxes(a, -1, -2), rtol=1e-13)
+    np.testing.assert_allclose(spectra.gram(jnp.asarray(a)), a @ np.swapaxes(a, -1, -2), rtol=1e-13)
     b = np.swapaxes(a, -1, -2)
-    np.testing.assert_allclose(linalg.gram(jnp.asarray(b)), a @ np.swapaxes(a, -1, -2), rtol=1e-13)
+    np.testing.assert_allclose(spectra.gram(jnp.asarray(b)), a @ np.swapaxes(a, -1, -2), rtol=1e-13)
 
 
 def test_eigenvalue_sweeps_stop_once_the_diagonal_is_within_eps_of_the_eigenvalues():

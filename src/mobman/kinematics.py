@@ -1,8 +1,11 @@
 """Batched, differentiable kinematics of mobile manipulators (Bayle §3–4).
 
 Every function takes a robot, configurations ``q`` of shape (..., n_q) and optionally a task (the robot's
-own task by default), and returns arrays with the same leading dimensions. Functions are compiled with the
-robot and the task as static arguments, so a second call with the same shapes does not retrace.
+own task by default), and returns arrays with the same leading dimensions. Each is written for one
+configuration and batched by :func:`mobman.engine.batched.batched`: validated once, compiled with the robot and
+the task as static arguments (a second call with the same shapes does not retrace), evaluated in blocks.
+Traced code (inside ``jit``, ``grad``, ``vmap``) calls the per-configuration kernels
+(:func:`jacobian_one`, :func:`reduced_jacobian_one`).
 
 - :func:`forward` ξ = f(q)
 - :func:`jacobian` J = ∂f/∂q (geometric for position/orientation tasks, autodiff otherwise)
@@ -15,7 +18,6 @@ robot and the task as static arguments, so a second call with the same shapes do
 
 from __future__ import annotations
 
-from functools import partial
 from typing import Callable
 
 import jax
@@ -23,7 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
-from mobman.batching import across_cores, blocked
+from mobman.engine.batched import batched, traced
 from mobman.errors import InputError, SingularConfigurationError
 from mobman.model.robot import Frames, MobileManipulator
 from mobman.model.tasks import Task
@@ -36,11 +38,7 @@ def resolve_task(robot: MobileManipulator, task: Task | None) -> Task:
     return task
 
 
-# --- single-configuration kernels ----------------------------------------------------------------
-
-
-def _forward_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
-    return task.value(robot, q, robot.frames(q))
+# --- single-configuration kernels (for traced code) ------------------------------------------------
 
 
 def jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
@@ -53,47 +51,7 @@ def reduced_jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -
     return robot.apply_S(jacobian_one(robot, task, q), q)
 
 
-def _representation_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
-    return task.representation_singular(robot, q, robot.frames(q))
-
-
 # --- public batched API ----------------------------------------------------------------------------
-
-
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0, 2))
-def _forward(robot, q, task):
-    return blocked(partial(_forward_one, robot, task))(q)
-
-
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0, 2))
-def _jacobian(robot, q, task):
-    return blocked(partial(jacobian_one, robot, task))(q)
-
-
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0, 2))
-def _reduced_jacobian(robot, q, task):
-    return blocked(partial(reduced_jacobian_one, robot, task))(q)
-
-
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0, 2))
-def _representation(robot, q, task):
-    return blocked(partial(_representation_one, robot, task))(q)
-
-
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
-def _S(robot, q):
-    return blocked(robot.S)(q)
-
-
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
-def _constraints(robot, q):
-    return blocked(robot.constraints)(q)
 
 
 def validated_q(robot: MobileManipulator, q: npt.ArrayLike) -> np.ndarray | jax.Array:
@@ -101,16 +59,78 @@ def validated_q(robot: MobileManipulator, q: npt.ArrayLike) -> np.ndarray | jax.
     checked on its device and passed on without a copy to the host."""
     if type(q) is np.ndarray:  # the common case first (a call for one configuration is mostly overhead)
         return robot.validate_q(q)
-    if isinstance(q, jax.core.Tracer):
+    if isinstance(q, jax.Array) and traced(q):
         return q
     if isinstance(q, jax.Array):
         return robot.validate_q_on_device(q)
     return robot.validate_q(q)
 
 
-def _vector(x, name: str, size: int) -> np.ndarray | jax.Array:
+def _robot_q(robot: MobileManipulator, q) -> tuple:
+    return robot, validated_q(robot, q)
+
+
+def _robot_q_task(robot: MobileManipulator, q, task: Task | None = None) -> tuple:
+    return robot, validated_q(robot, q), resolve_task(robot, task)
+
+
+@batched({1: 1}, static=(0, 2), validate=_robot_q_task)
+def forward(robot: MobileManipulator, q: jax.Array, task: Task | None = None) -> jnp.ndarray:
+    """Operational coordinates ξ = f(q), shape (..., m)."""
+    assert task is not None  # resolved by the validator
+    return task.value(robot, q, robot.frames(q))
+
+
+@batched({1: 1}, static=(0, 2), validate=_robot_q_task)
+def jacobian(robot: MobileManipulator, q: jax.Array, task: Task | None = None) -> jnp.ndarray:
+    """Jacobian J(q) = ∂f/∂q, shape (..., m, n_q) (Bayle §3)."""
+    assert task is not None  # resolved by the validator
+    return jacobian_one(robot, task, q)
+
+
+@batched({1: 1}, static=(0, 2), validate=_robot_q_task)
+def reduced_jacobian(robot: MobileManipulator, q: jax.Array, task: Task | None = None) -> jnp.ndarray:
+    """Reduced Jacobian J̄(q) = J(q) S(q), shape (..., m, n_eta): ξ̇ = J̄ η (Bayle eq. 2)."""
+    assert task is not None  # resolved by the validator
+    return reduced_jacobian_one(robot, task, q)
+
+
+@batched({1: 1}, static=(0, 2), validate=_robot_q_task)
+def _representation(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+    assert task is not None  # resolved by the validator
+    return task.representation_singular(robot, q, robot.frames(q))
+
+
+def representation_singular(
+    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None
+) -> np.ndarray:
+    """True where the task's coordinates are singular as a representation (the heading of a vertical axis,
+    an Euler set's gimbal lock; :mod:`mobman.model.task`), boolean, shape (...). There ξ is not a chart of the
+    frame and J, J̄ may be unbounded or NaN; kinematic and velocity singularities (KSC, VSC) are another
+    matter, a property of the robot."""
+    return np.asarray(_representation(robot, q, task), dtype=bool)
+
+
+@batched({1: 1}, static=(0,), validate=_robot_q)
+def S(robot: MobileManipulator, q: jax.Array) -> jnp.ndarray:
+    """Admissible-velocity basis S(q), shape (..., n_q, n_eta): q̇ = S(q) η."""
+    return robot.S(q)
+
+
+@batched({1: 1}, static=(0,), validate=_robot_q)
+def constraints(robot: MobileManipulator, q: jax.Array) -> jnp.ndarray:
+    """Nonholonomic constraint rows G(q), shape (..., n_q − n_eta, n_q): G(q) q̇ = 0."""
+    return robot.constraints(q)
+
+
+def frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
+    """World poses of platform, mounts and arm frames for one configuration (see :class:`Frames`)."""
+    return robot.frames(validated_q(robot, q))
+
+
+def _vector(x, name: str, size: int) -> np.ndarray:
     """A finite float array (..., size), or InputError naming ``name``."""
-    if isinstance(x, jax.core.Tracer):
+    if traced(x):
         return x
     try:
         arr = np.asarray(x, dtype=float)
@@ -121,46 +141,6 @@ def _vector(x, name: str, size: int) -> np.ndarray | jax.Array:
     if not np.isfinite(arr).all():
         raise InputError(f"{name}: every component must be finite")
     return arr
-
-
-def forward(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None) -> jnp.ndarray:
-    """Operational coordinates ξ = f(q), shape (..., m)."""
-    return _forward(robot, validated_q(robot, q), resolve_task(robot, task))
-
-
-def jacobian(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None) -> jnp.ndarray:
-    """Jacobian J(q) = ∂f/∂q, shape (..., m, n_q) (Bayle §3)."""
-    return _jacobian(robot, validated_q(robot, q), resolve_task(robot, task))
-
-
-def reduced_jacobian(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None) -> jnp.ndarray:
-    """Reduced Jacobian J̄(q) = J(q) S(q), shape (..., m, n_eta): ξ̇ = J̄ η (Bayle eq. 2)."""
-    return _reduced_jacobian(robot, validated_q(robot, q), resolve_task(robot, task))
-
-
-def representation_singular(
-    robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None
-) -> np.ndarray:
-    """True where the task's coordinates are singular as a representation (the heading of a vertical axis,
-    an Euler set's gimbal lock; :mod:`mobman.model.tasks`), boolean, shape (...). There ξ is not a chart of the
-    frame and J, J̄ may be unbounded or NaN; kinematic and velocity singularities (KSC, VSC) are another
-    matter, a property of the robot."""
-    return np.asarray(_representation(robot, validated_q(robot, q), resolve_task(robot, task)), dtype=bool)
-
-
-def S(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
-    """Admissible-velocity basis S(q), shape (..., n_q, n_eta): q̇ = S(q) η."""
-    return _S(robot, validated_q(robot, q))
-
-
-def constraints(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
-    """Nonholonomic constraint rows G(q), shape (..., n_q − n_eta, n_q): G(q) q̇ = 0."""
-    return _constraints(robot, validated_q(robot, q))
-
-
-def frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
-    """World poses of platform, mounts and arm frames for one configuration (see :class:`Frames`)."""
-    return robot.frames(validated_q(robot, q))
 
 
 def pinv(a: jnp.ndarray) -> jnp.ndarray:
@@ -186,8 +166,8 @@ def inverse_velocity(
     task = resolve_task(robot, task)
     q = validated_q(robot, q)
     xi_dot = jnp.asarray(_vector(xi_dot, "xi_dot", task.dim))
-    jbar = _reduced_jacobian(robot, q, task)
-    if not isinstance(jbar, jax.core.Tracer) and not bool(jnp.all(jnp.isfinite(jbar))):
+    jbar = reduced_jacobian(robot, q, task)
+    if not traced(jbar) and not bool(jnp.all(jnp.isfinite(jbar))):
         raise SingularConfigurationError(
             "inverse_velocity: J̄ holds NaN or infinite entries where the task's coordinates are singular as a "
             "representation (see representation_singular)"
@@ -198,7 +178,7 @@ def inverse_velocity(
         z = jnp.asarray(_vector(z, "z", robot.n_eta))
         projector = jnp.eye(robot.n_eta) - jsharp @ jbar
         eta = eta + jnp.einsum("...ij,...j->...i", projector, z)
-    q_dot = jnp.einsum("...ij,...j->...i", _S(robot, q), eta)
+    q_dot = jnp.einsum("...ij,...j->...i", S(robot, q), eta)
     return eta, q_dot
 
 

@@ -18,7 +18,8 @@ w5 = √(1 − σ_r² / σ_1²). ``rank="auto"`` (in :func:`analyze`, :func:`gra
 generic rank of J_a for the arm whenever it is below m, and plain measures otherwise.
 
 **Numerics.** Singular values come from the eigenvalues λ_i = σ_i² of the smaller Gram matrix (J Jᵀ or Jᵀ J),
-computed by the batched Jacobi solver of :mod:`mobman.linalg`: absolute accuracy about eps · σ_1² on λ, so
+computed by :func:`mobman.model.spectra.eigvalsh` (run by the engine's batched Jacobi solver,
+:mod:`mobman.engine.linalg`): absolute accuracy about eps · σ_1² on λ, so
 σ_i to about eps · σ_1² / σ_i (relative) and a tiny σ to about √eps · σ_1 absolute (see docs/manipulability.md).
 Gradients use the eigenvalue perturbation rule; they are finite everywhere, exact away from repeated singular
 values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, get a zero derivative).
@@ -26,7 +27,7 @@ values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, ge
 
 from __future__ import annotations
 
-from functools import lru_cache, partial, reduce
+from functools import lru_cache, reduce
 from typing import Any, Literal
 
 import jax
@@ -35,10 +36,9 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics as K
-from mobman import linalg
-from mobman.batching import across_cores, blocked
+from mobman.engine.batched import batched, traced
 from mobman.errors import InputError, ModelError, SingularConfigurationError
-from mobman.model import spatial
+from mobman.model import spatial, spectra
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Task
 
@@ -73,7 +73,7 @@ def _check_rank(rank, p: int) -> None:
 
 def _squared_singular_values(j: jnp.ndarray) -> jnp.ndarray:
     """σ_i² (..., min(m, k)), descending, from the smaller Gram matrix."""
-    return linalg.eigvalsh(linalg.gram(j))
+    return spectra.eigvalsh(spectra.gram(j))
 
 
 def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[str, jnp.ndarray]:
@@ -96,24 +96,13 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
     return {k: jnp.where(undefined, jnp.asarray(jnp.nan, v.dtype), v) for k, v in out.items()}
 
 
-def _measures_one(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
-    """The measures of one m × k Jacobian."""
+def measures_one(j: jnp.ndarray, rank: int | None = None) -> dict[str, jnp.ndarray]:
+    """The measures of one m × k Jacobian (as :func:`measures`), unvalidated: for traced code."""
     return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)
 
 
-@across_cores({0: 2})
-@partial(jax.jit, static_argnums=(1,))
-def _measures(j: jnp.ndarray, rank: int | None) -> dict[str, jnp.ndarray]:
-    return blocked(partial(_measures_one, rank=rank), core_ndims=2)(j)
-
-
-@jax.jit
-def _singular_values(j: jnp.ndarray) -> jnp.ndarray:
-    return _safe_sqrt(_squared_singular_values(j))
-
-
 def _as_jacobian(j) -> jnp.ndarray:
-    if isinstance(j, jax.core.Tracer):
+    if traced(j):
         return j
     # a float64 jax.Array passes as it is: a converted copy would leave jit's fast dispatch path (~35 µs)
     if isinstance(j, jax.Array) and j.dtype == jnp.float64:
@@ -135,21 +124,31 @@ def _as_jacobian(j) -> jnp.ndarray:
 _all_finite = jax.jit(lambda a: jnp.all(jnp.isfinite(a)))
 
 
-def singular_values(j: npt.ArrayLike) -> jnp.ndarray:
+def _jacobian_argument(j) -> tuple:
+    return (_as_jacobian(j),)
+
+
+def _jacobian_and_rank(j, rank: int | None = None) -> tuple:
+    j = _as_jacobian(j)
+    _check_rank(rank, min(j.shape[-2:]))
+    return j, None if rank is None else int(rank)
+
+
+@batched({0: 2}, validate=_jacobian_argument)
+def singular_values(j: jax.Array) -> jnp.ndarray:
     """Singular values of (..., m, k) matrices, shape (..., min(m, k)), descending."""
-    return _singular_values(_as_jacobian(j))
+    return _safe_sqrt(_squared_singular_values(j))
 
 
-def measures(j: npt.ArrayLike, rank: int | None = None) -> dict[str, jnp.ndarray]:
+@batched({0: 2}, static=(1,), validate=_jacobian_and_rank)
+def measures(j: jax.Array, rank: int | None = None) -> dict[str, jnp.ndarray]:
     """The three measures of (..., m, k) Jacobians, each of shape (...) (Nait-Chabane eq. 17–19).
 
     ``{"yoshikawa": w, "inverse_condition": w2, "eccentricity": w5}``; with ``rank=r`` they are restricted to
     the r largest singular values (w = σ_1⋯σ_r, σ_min = σ_r). Rank-deficient: w = 0, w2 = 0, w5 = 1.
     A Jacobian with NaN or infinite entries raises InputError.
     """
-    j = _as_jacobian(j)
-    _check_rank(rank, min(j.shape[-2:]))
-    return _measures(j, None if rank is None else int(rank))
+    return measures_one(j, rank)
 
 
 def yoshikawa(j: npt.ArrayLike, rank: int | None = None) -> jnp.ndarray:
@@ -167,19 +166,15 @@ def eccentricity(j: npt.ArrayLike, rank: int | None = None) -> jnp.ndarray:
     return measures(j, rank)["eccentricity"]
 
 
-@jax.jit
-def _ellipsoid(j):
-    lam, u = linalg.eigh(spatial.matmul_expanded(j, jnp.swapaxes(j, -1, -2)))
-    return _safe_sqrt(lam), u
-
-
-def ellipsoid(j: npt.ArrayLike) -> tuple[jnp.ndarray, jnp.ndarray]:
+@batched({0: 2}, validate=_jacobian_argument)
+def ellipsoid(j: jax.Array) -> tuple[jnp.ndarray, jnp.ndarray]:
     """Manipulability ellipsoid {J η : ‖η‖ ≤ 1} of (..., m, k) Jacobians (Nait-Chabane §3.1).
 
     Returns the principal semi-axes (..., m), descending (the singular values, zero-padded when k < m), and
     their unit directions (..., m, m) as columns (the left singular vectors, eigenvectors of J Jᵀ).
     """
-    return _ellipsoid(_as_jacobian(j))
+    lam, u = spectra.eigh(spatial.matmul_expanded(j, j.T))
+    return _safe_sqrt(lam), u
 
 
 # --- Jacobians of a robot -------------------------------------------------------------------------
@@ -290,8 +285,9 @@ def analyze(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None
     return out
 
 
-def _jacobian_one_of(robot: MobileManipulator, task: Task, which: str, q: jnp.ndarray) -> jnp.ndarray:
-    """J_a, J̄ or J̄_N of one configuration (the kernel of the batched functions below)."""
+def jacobian_one(robot: MobileManipulator, task: Task, which: str, q: jnp.ndarray) -> jnp.ndarray:
+    """J_a, J̄ or J̄_N (``which``: ``"arm"``, ``"system"``, ``"system_normalized"``) of one configuration
+    ``q`` (n_q,), unvalidated: for traced code (the kernel of the batched functions below)."""
     if which == "arm":
         return K.jacobian_one(robot, task, q)[:, robot.arm_slice(0)]
     j = K.reduced_jacobian_one(robot, task, q)
@@ -327,16 +323,14 @@ def _check_options(
     return task, None if r is None else int(r)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0, 2, 3, 4))
-def _jacobian_and_measures(robot, q, task, which, rank):
-    def one(qq):
-        j = _jacobian_one_of(robot, task, which, qq)
-        return j, _measures_one(j, rank)
-
-    return blocked(one)(q)
+def _validated_options(
+    robot: MobileManipulator, q, which: str = "system", task: Task | None = None, rank: Rank = None
+) -> tuple:
+    task, r = _prepare(robot, which, task, rank)
+    return robot, K.validated_q(robot, q), which, task, r
 
 
+@batched({1: 1}, static=(0, 2, 3, 4), validate=_validated_options)
 def jacobian_and_measures(
     robot: MobileManipulator,
     q: npt.ArrayLike,
@@ -354,19 +348,26 @@ def jacobian_and_measures(
     representation (:func:`mobman.kinematics.representation_singular`), J and the measures hold NaN: this
     fast path does not test its output (:func:`measures` of such a J raises InputError).
     """
+    assert task is not None and rank != "auto"  # resolved by the validator
+    j = jacobian_one(robot, task, which, jnp.asarray(q))
+    return j, measures_one(j, rank)
+
+
+def _validated_gradient_options(
+    robot: MobileManipulator,
+    q,
+    which: str = "system",
+    measure: str = "eccentricity",
+    task: Task | None = None,
+    rank: Rank = None,
+) -> tuple:
+    if measure not in MEASURES:
+        raise InputError(f"measure must be one of {', '.join(MEASURES)}, got {measure!r}")
     task, r = _prepare(robot, which, task, rank)
-    return _jacobian_and_measures(robot, K.validated_q(robot, q), task, which, r)
+    return robot, K.validated_q(robot, q), which, measure, task, r
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0, 2, 3, 4, 5))
-def _gradient(robot, q, task, which, measure, rank):
-    def value(qq):
-        return _measures_one(_jacobian_one_of(robot, task, which, qq), rank)[measure]
-
-    return blocked(jax.grad(value))(q)
-
-
+@batched({1: 1}, static=(0, 2, 3, 4, 5), validate=_validated_gradient_options)
 def gradient(
     robot: MobileManipulator,
     q: npt.ArrayLike,
@@ -380,10 +381,13 @@ def gradient(
     on repeated singular values); NaN where the task's coordinates are singular as a representation
     (:func:`mobman.kinematics.representation_singular`). The criterion gradients of Nait-Chabane §4.3 / Bayle §7 are this function.
     """
-    if measure not in MEASURES:
-        raise InputError(f"measure must be one of {', '.join(MEASURES)}, got {measure!r}")
-    task, r = _prepare(robot, which, task, rank)
-    return _gradient(robot, K.validated_q(robot, q), task, which, measure, r)
+
+    assert task is not None and rank != "auto"  # resolved by the validator
+
+    def value(qq):
+        return measures_one(jacobian_one(robot, task, which, qq), rank)[measure]
+
+    return jax.grad(value)(q)
 
 
 __all__ = [
@@ -396,7 +400,9 @@ __all__ = [
     "gradient",
     "inverse_condition",
     "jacobian_and_measures",
+    "jacobian_one",
     "measures",
+    "measures_one",
     "singular_values",
     "system_jacobian",
     "yoshikawa",

@@ -61,12 +61,12 @@ class Criterion:
 
 
 def measure_jacobian(robot: MobileManipulator, q: jax.Array, task: Task | None, which: str) -> jnp.ndarray:
-    """The Jacobian whose ellipsoid a manipulability measure describes: J_a (arm), J̄ or J̄_N = J̄ R."""
+    """The Jacobian whose ellipsoid a manipulability measure describes: J_a (arm), J̄ or J̄_N = J̄ R, of one
+    configuration q (n_q,) (traced code: no validation)."""
+    from mobman import kinematics as K
     from mobman import manipulability as mp
 
-    if which == "arm":
-        return mp.arm_jacobian(robot, q, task=task)
-    return mp.system_jacobian(robot, q, task=task, normalized=which == "system_normalized")
+    return mp.jacobian_one(robot, K.resolve_task(robot, task), which, q)
 
 
 @pytree("power")
@@ -118,7 +118,7 @@ class Manipulability(Criterion):
             )
         jac = measure_jacobian(robot, q, task, self.which)
         assert self.sign is not None  # set in __post_init__
-        return self.sign * mp.measures(jac, rank=self.rank)[self.measure] ** self.power
+        return self.sign * mp.measures_one(jac, rank=self.rank)[self.measure] ** self.power
 
 
 @pytree()

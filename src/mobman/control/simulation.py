@@ -38,9 +38,9 @@ import numpy as np
 import numpy.typing as npt
 from jax.flatten_util import ravel_pytree
 
-from mobman.batching import across_cores
 from mobman.control.laws import Law
 from mobman.control.references import Reference
+from mobman.engine.batched import across_cores
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.robot import MobileManipulator
 from mobman.model.spatial import matvec
@@ -252,7 +252,7 @@ def _measure_chunk(robot, task, which, q):
     from mobman import manipulability as mp
     from mobman.control.criteria import measure_jacobian
 
-    return mp.measures(measure_jacobian(robot, q, task, which))
+    return jax.vmap(lambda qq: mp.measures_one(measure_jacobian(robot, qq, task, which)))(q)
 
 
 def compute_measures(

@@ -276,7 +276,7 @@ def _kinematic(robot: MobileManipulator, task: Task, held: str | None, q, u_max)
     t = actuator_map(robot, uses_wheels(robot))
 
     def one(q, u_max):
-        jhat = kinematics.reduced_jacobian(robot, q, task) @ t * u_max  # Ĵ = J T Y⁻¹ (eq. 24)
+        jhat = kinematics.reduced_jacobian_one(robot, task, q) @ t * u_max  # Ĵ = J T Y⁻¹ (eq. 24)
         if held is None:
             return jnp.zeros(jhat.shape[0]), jhat
         if held == "point":
@@ -351,10 +351,10 @@ def _dynamic_terms(
     t = actuator_map(robot, wheels)
 
     def jbar(q):
-        return kinematics.reduced_jacobian(robot, q, task)
+        return kinematics.reduced_jacobian_one(robot, task, q)
 
     def one(q, eta):
-        s = kinematics.S(robot, q)
+        s = robot.S(q)
         j = jbar(q)
         if at_rest:  # η = 0: the reduced bias is Sᵀ g(q) and there is no velocity term
             bias = s.T @ dyn.gravity_vector(model, q)

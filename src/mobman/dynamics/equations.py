@@ -33,8 +33,8 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics
-from mobman.batching import across_cores, blocked
 from mobman.dynamics.inertia import DynamicModel
+from mobman.engine.batched import batched
 from mobman.errors import InputError
 from mobman.model.inertial import Wheel
 from mobman.model.robot import Frames
@@ -288,46 +288,39 @@ def actuation_matrix_one(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
 # --- batched public API --------------------------------------------------------------------------
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _mass(model, q):
-    return blocked(partial(mass_matrix_one, model))(q)
+    return mass_matrix_one(model, q)
 
 
-@across_cores({1: 1, 2: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1}, static=(0,))
 def _bias(model, q, q_dot):
-    return blocked(partial(bias_one, model))(q, q_dot)
+    return bias_one(model, q, q_dot)
 
 
-@across_cores({1: 1, 2: 1, 3: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1, 3: 1}, static=(0,))
 def _generalized_force(model, q, q_dot, q_ddot):
-    return blocked(partial(generalized_force_one, model))(q, q_dot, q_ddot)
+    return generalized_force_one(model, q, q_dot, q_ddot)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _gravity(model, q):
-    return blocked(partial(gravity_one, model))(q)
+    return gravity_one(model, q)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _potential(model, q):
-    return blocked(partial(potential_energy_one, model))(q)
+    return potential_energy_one(model, q)
 
 
-@across_cores({1: 1, 2: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1}, static=(0,))
 def _coriolis(model, q, q_dot):
-    return blocked(partial(coriolis_matrix_one, model))(q, q_dot)
+    return coriolis_matrix_one(model, q, q_dot)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _actuation(model, q):
-    return blocked(partial(actuation_matrix_one, model))(q)
+    return actuation_matrix_one(model, q)
 
 
 def validated_q(model: DynamicModel, q: npt.ArrayLike) -> np.ndarray | jax.Array:

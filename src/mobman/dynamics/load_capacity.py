@@ -38,11 +38,11 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
-from mobman.batching import blocked
 from mobman.dynamics import equations as eq
 from mobman.dynamics import reduced
 from mobman.dynamics.actuators import Actuator, actuator_list, envelope_coefficients
 from mobman.dynamics.inertia import DynamicModel
+from mobman.engine.batched import blocked
 from mobman.errors import InputError, ModelError
 from mobman.model.inertial import Payload
 

@@ -19,16 +19,14 @@ about 2.5 times cheaper to evaluate.
 
 from __future__ import annotations
 
-from functools import partial
-
 import jax
 import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
-from mobman.batching import across_cores, blocked
 from mobman.dynamics import equations as eq
 from mobman.dynamics.inertia import DynamicModel
+from mobman.engine.batched import batched
 from mobman.errors import InputError
 
 
@@ -97,10 +95,9 @@ def constraint_forces_one(
 # --- batched public API ---------------------------------------------------------------------------
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _reduced_mass(model, q):
-    return blocked(partial(reduced_mass_matrix_one, model))(q)
+    return reduced_mass_matrix_one(model, q)
 
 
 def reduced_terms_one(
@@ -114,22 +111,19 @@ def reduced_terms_one(
     )
 
 
-@across_cores({1: 1, 2: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1}, static=(0,))
 def _terms(model, q, eta):
-    return blocked(partial(reduced_terms_one, model))(q, eta)
+    return reduced_terms_one(model, q, eta)
 
 
-@across_cores({1: 1, 2: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1}, static=(0,))
 def _bias(model, q, eta):
-    return blocked(partial(reduced_bias_one, model))(q, eta)
+    return reduced_bias_one(model, q, eta)
 
 
-@across_cores({1: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1}, static=(0,))
 def _input(model, q):
-    return blocked(partial(input_matrix_one, model))(q)
+    return input_matrix_one(model, q)
 
 
 @jax.jit
@@ -142,16 +136,14 @@ def _solve_forward(p, b, b_mat, tau):
     return jnp.linalg.solve(p, b_mat @ tau[..., None] - b[..., None])[..., 0]
 
 
-@across_cores({1: 1, 2: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1}, static=(0,))
 def _energy(model, q, eta):
-    return blocked(partial(energy_one, model))(q, eta)
+    return energy_one(model, q, eta)
 
 
-@across_cores({1: 1, 2: 1, 3: 1, 4: 1})
-@partial(jax.jit, static_argnums=(0,))
+@batched({1: 1, 2: 1, 3: 1, 4: 1}, static=(0,))
 def _constraint_forces(model, q, eta, eta_dot, tau):
-    return blocked(partial(constraint_forces_one, model))(q, eta, eta_dot, tau)
+    return constraint_forces_one(model, q, eta, eta_dot, tau)
 
 
 def validated_eta(model: DynamicModel, value: npt.ArrayLike, name: str) -> np.ndarray | jax.Array:

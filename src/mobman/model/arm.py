@@ -17,6 +17,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman import checks
+from mobman.engine.kernels import definition
 from mobman.errors import ModelError
 from mobman.model import spatial
 from mobman.model.spatial import IDENTITY, Transform
@@ -99,13 +100,8 @@ class Joint:
         """World pose (R, p) of the joint frame, from its parent frame's world pose and the joint's motion
         variable q (batched): ``origin`` (R_o, p_o) then the motion by v = q + offset.
 
-        Revolute, with K = [axis]×: R = R_parent (R_o + sin v · R_o K + (1 − cos v) · R_o K²) (Rodrigues),
-        p = p_parent + R_parent p_o. Prismatic: R = R_parent R_o, p = p_parent + R_parent (p_o + v R_o axis).
-        The constant factors enter as Python scalars (:func:`spatial.combine`): a DH origin's zeros and ±1
-        cost nothing, and the compiled chain holds no constant arrays (XLA's CPU runtime sets every constant
-        array of a program up again at each call). The product with R_parent is written out
-        (:func:`spatial.matmul_expanded`): no reduction kernel per frame, and batched no library call for it
-        (docs/kinematics.md).
+        Revolute, with K = [axis]×: R = R_parent R_o exp(v K) (:func:`rodrigues`), p = p_parent + R_parent p_o.
+        Prismatic: R = R_parent R_o, p = p_parent + R_parent (p_o + v R_o axis).
         """
         r, p = parent
         r_o, p_o = spatial.fixed_pose(self.origin)
@@ -115,10 +111,15 @@ class Joint:
         if self.kind == "prismatic":
             rotation = spatial.matmul_constant(r, r_o)
             return rotation, p + value[..., None] * spatial.matvec_constant(rotation, axis)
-        k = spatial.skew(axis)
-        factors = (jnp.ones_like(value), jnp.sin(value), 1.0 - jnp.cos(value))
-        local = spatial.constant_combination((r_o, r_o @ k, r_o @ k @ k), factors)
-        return spatial.matmul_expanded(r, local), p
+        return spatial.matmul_expanded(r, rodrigues(r_o, spatial.skew(axis), value)), p
+
+
+@definition
+def rodrigues(r_o: np.ndarray, k: np.ndarray, angle: jnp.ndarray) -> jnp.ndarray:
+    """R_o exp(θ K), (..., 3, 3), for a constant rotation R_o, the cross-product matrix K = [a]× of a unit
+    axis a and angles θ (...): Rodrigues' formula exp(θ K) = I + sin θ K + (1 − cos θ) K²."""
+    sin, cos = jnp.sin(angle)[..., None, None], jnp.cos(angle)[..., None, None]
+    return jnp.asarray(r_o) @ (jnp.eye(3) + sin * k + (1.0 - cos) * (k @ k))
 
 
 @dataclass(frozen=True)
@@ -312,4 +313,4 @@ def _coupling(coupling) -> tuple[float, ...] | None:
     return None if coupling is None else tuple(float(v) for v in np.asarray(coupling, dtype=float).ravel())
 
 
-__all__ = ["Arm", "Joint", "LinkInertial"]
+__all__ = ["Arm", "Joint", "LinkInertial", "rodrigues"]

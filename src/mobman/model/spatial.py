@@ -1,8 +1,8 @@
-"""Rigid transforms in SE(3) as (R, p) pairs, written with broadcasting products.
+"""Rigid transforms in SE(3) as (R, p) pairs.
 
 Poses are kept as a rotation ``R`` (..., 3, 3) and a translation ``p`` (..., 3) rather than 4 × 4
-matrices: composing them with elementwise products and sums lets XLA fuse a whole kinematic chain into
-a few loops over a batch, which is much faster on the CPU than many tiny batched matrix products.
+matrices. The products of the kinematic model are plain definitions (``a @ b``); the engine runs them
+written out for XLA (:mod:`mobman.engine.products`, registered with :mod:`mobman.engine.kernels`).
 
 Fixed transforms of a robot description are stored as hashable tuples (16 floats, row-major 4 × 4) so
 that robot models can be static arguments of :func:`jax.jit`.
@@ -12,11 +12,10 @@ from __future__ import annotations
 
 from typing import Sequence
 
-import jax
 import jax.numpy as jnp
 import numpy as np
-import numpy.typing as npt
 
+from mobman.engine.kernels import definition
 from mobman.errors import ModelError
 
 Transform = tuple[float, ...]
@@ -75,21 +74,16 @@ def skew(v: np.ndarray) -> np.ndarray:
 
 def matmul(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     """a @ b for stacks of small matrices, as a broadcast product and sum: one reduction, which XLA fuses
-    with what produces and uses it. For the control laws' algebra at one configuration (pseudo-inverses,
-    projectors, stage sums); the kinematic model uses :func:`matmul_expanded`."""
+    with what produces and uses it (the control laws' algebra at one configuration: pseudo-inverses,
+    projectors, stage sums)."""
     return jnp.sum(a[..., :, :, None] * b[..., None, :, :], axis=-2)
 
 
+@definition
 def matmul_expanded(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
-    """a @ b for stacks of small matrices, written out as the sum of the outer products of a's columns and
-    b's rows: no reduction at all. For the kinematic model's products (a chain's rotations, Jacobian rows,
-    Gram matrices). Batched, XLA hands reductions to its YNN library kernels, which are slow for matrices
-    this small (a Panda's J̄ for a block of 128 configurations spent a third of its time in three of them),
-    and for one configuration each 3 × 3 product of a chain is a reduction kernel of its own; written out,
-    the products fuse with their neighbours as elementwise loops (docs/kinematics.md). In the control laws'
-    algebra the reduction is the faster form (measured in the compiled control step)."""
-    terms = [c[..., :, None] * r[..., None, :] for c, r in zip(unstack(a), unstack(b, axis=-2))]
-    return sum(terms[1:], terms[0])
+    """a @ b for stacks of small matrices: the kinematic model's products (a chain's rotations, Jacobian
+    rows, Gram matrices). The engine runs it as a sum of outer products (:mod:`mobman.engine.products`)."""
+    return a @ b
 
 
 def matvec(a: jnp.ndarray | np.ndarray, v: jnp.ndarray | np.ndarray) -> jnp.ndarray:
@@ -97,57 +91,34 @@ def matvec(a: jnp.ndarray | np.ndarray, v: jnp.ndarray | np.ndarray) -> jnp.ndar
     return jnp.sum(a * v[..., None, :], axis=-1)
 
 
-def combine(vectors: Sequence[jnp.ndarray], weights: Sequence[float] | np.ndarray) -> jnp.ndarray | None:
-    """Σ_k w_k v_k for constant weights, written out over the nonzero ones (±1 without a product); None
-    when every weight is zero. With the weights as Python scalars XLA emits no constant array and no
-    product by zero: the structural zeros of a robot's fixed transforms cost nothing."""
-    terms = [
-        v if w == 1.0 else -v if w == -1.0 else float(w) * v for v, w in zip(vectors, weights) if w != 0.0
-    ]
-    return None if not terms else sum(terms[1:], terms[0])
+@definition
+def matvec_constant(a: jnp.ndarray, v: np.ndarray) -> jnp.ndarray:
+    """a @ v for stacks of matrices a and a constant NumPy vector v (a robot's fixed offsets)."""
+    return a @ jnp.asarray(v, dtype=a.dtype)
 
 
-def matvec_constant(a: jnp.ndarray, v: npt.ArrayLike) -> jnp.ndarray:
-    """a @ v for stacks of matrices a and a constant NumPy vector v (see :func:`combine`)."""
-    out = combine(unstack(a), np.asarray(v, dtype=float))
-    return jnp.zeros(a.shape[:-1], a.dtype) if out is None else out
-
-
+@definition
 def matmul_constant(a: jnp.ndarray, c: np.ndarray) -> jnp.ndarray:
-    """a @ c for stacks of matrices a and a constant NumPy matrix c, column by column (see :func:`combine`)."""
-    columns = unstack(a)
-    out = [combine(columns, weights) for weights in np.asarray(c, dtype=float).T]
-    return jnp.stack([jnp.zeros_like(columns[0]) if o is None else o for o in out], axis=-1)
+    """a @ c for stacks of matrices a and a constant NumPy matrix c (a robot's fixed rotations)."""
+    return a @ jnp.asarray(c, dtype=a.dtype)
 
 
-def constant_combination(matrices: Sequence[np.ndarray], factors: Sequence[jnp.ndarray]) -> jnp.ndarray:
-    """Σ_n f_n M_n, shape (..., rows, cols), for constant NumPy matrices M_n and batched scalars f_n, entry
-    by entry with the entries of M_n as Python scalars (:func:`combine`): no constant array."""
-    stacked = np.stack([np.asarray(m, dtype=float) for m in matrices], axis=-1)
-    zero = jnp.zeros_like(factors[0])
-    rows = [[combine(factors, weights) for weights in row] for row in stacked]
-    return jnp.stack([jnp.stack([zero if e is None else e for e in row], -1) for row in rows], -2)
-
-
+@definition
 def unstack(a: jnp.ndarray, axis: int = -1) -> list[jnp.ndarray]:
-    """The components of a along ``axis``, as one ``lax.split``: its reverse-mode transpose is one
-    concatenation, where separate slices ``a[..., i]`` transpose to one padded array each, summed."""
-    return [jnp.squeeze(x, axis) for x in jax.lax.split(a, (1,) * a.shape[axis], axis=axis)]
+    """The components of a along ``axis``: [a[..., 0], a[..., 1], …] for the last axis."""
+    return list(jnp.moveaxis(a, axis, 0))
 
 
+@definition
 def cross(a: jnp.ndarray, b: jnp.ndarray, axis: int = -1) -> jnp.ndarray:
-    """Cross product along ``axis`` (the last by default; 0 for the columns of 3 × n matrices), written out
-    (jnp.cross is slower under vmap on CPU)."""
-    a0, a1, a2 = unstack(a, axis)
-    b0, b1, b2 = unstack(b, axis)
-    return jnp.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=axis)
+    """Cross product along ``axis`` (the last by default; 0 for the columns of 3 × n matrices)."""
+    return jnp.cross(a, b, axis=axis)
 
 
 def compose_fixed_pose(
     pose: tuple[jnp.ndarray, jnp.ndarray], t: Transform
 ) -> tuple[jnp.ndarray, jnp.ndarray]:
-    """(R, p) ∘ T for a stored fixed transform T = (R_t, p_t): (R R_t, R p_t + p), its constant entries as
-    scalars (:func:`combine`)."""
+    """(R, p) ∘ T for a stored fixed transform T = (R_t, p_t): (R R_t, R p_t + p)."""
     r, p = pose
     r_t, p_t = fixed_pose(t)
     return matmul_constant(r, r_t), p + matvec_constant(r, p_t)

@@ -47,9 +47,9 @@ import numpy.typing as npt
 
 from mobman.control._tree import pytree
 from mobman.errors import ModelError
-from mobman.linalg import eigvalsh
 from mobman.model.kinds import Kinds
 from mobman.model.spatial import matmul
+from mobman.model.spectra import eigvalsh
 
 if TYPE_CHECKING:
     from mobman.model.robot import MobileManipulator

@@ -1,4 +1,5 @@
-"""Spectra of small symmetric matrices for large batches: a cyclic Jacobi eigenvalue solver.
+"""Spectra of small symmetric matrices for large batches: a cyclic Jacobi eigenvalue solver, the drop-in for
+:func:`mobman.model.spectra.eigvalsh` and :func:`~mobman.model.spectra.eigh`.
 
 ``jnp.linalg.eigh`` / ``svd`` call LAPACK (CPU) or cuSOLVER (GPU) once per tiny matrix, which is slow for a
 million 6 × 6 matrices. Here the classical cyclic Jacobi method (Golub & Van Loan, *Matrix Computations*,
@@ -15,8 +16,6 @@ and the solver switches to Jacobi when it is vectorised (``jax.custom_batching.c
 ``blocked`` batches and explicit batch dimensions all get the Jacobi program). The eigenvectors of 2 × 2
 problems come from their single exact rotation, their eigenvalues from the closed form m ± r (a few fused
 operations with their gradient, for the Gram matrices of planar tasks); accelerators always use Jacobi.
-Measured on the 6 × 6 Gram matrix of a Panda J̄ (the measures of one configuration, compiled, alternated in
-one process): 23–44 µs through LAPACK against 68–88 µs through Jacobi, the spread being the machine's load.
 
 Convergence of cyclic Jacobi is quadratic once the off-diagonal part is small; :data:`SWEEPS` sweeps reach
 machine precision for the matrices met in kinematics (n ≤ 8; tested against LAPACK in ``tests/test_linalg.py``).
@@ -36,8 +35,9 @@ from functools import lru_cache, partial, reduce
 import jax
 import jax.numpy as jnp
 
+from mobman.engine.kernels import drop_in
+from mobman.engine.products import unstack
 from mobman.errors import InputError
-from mobman.model.spatial import matmul_expanded, unstack
 
 SWEEPS = 7
 """Cyclic Jacobi sweeps: the number run for eigenvectors, the most run for eigenvalues (enough for double
@@ -206,7 +206,7 @@ def _one_or_many(vectors: bool, sweeps: int):
     @solve.def_vmap
     def _batched(axis_size, in_batched, a):
         (batched,) = in_batched
-        out = _jacobi_sorted(a, vectors, sweeps) if batched else solve(a)
+        out = _jacobi_sorted(a, vectors, sweeps) if batched else _lapack(a, vectors)
         return out, jax.tree.map(lambda _: batched, out)
 
     return solve
@@ -240,6 +240,7 @@ def _sort_descending(w: jnp.ndarray, v: jnp.ndarray | None = None):
     return w if cols is None else (w, jnp.stack(cols, axis=-1))
 
 
+@drop_in("mobman.model.spectra.eigvalsh")
 def eigvalsh(a: jnp.ndarray, sweeps: int = SWEEPS) -> jnp.ndarray:
     """Eigenvalues of symmetric matrices a (..., n, n), in descending order, shape (..., n).
 
@@ -282,20 +283,10 @@ def _eigvalsh_jvp(sweeps, primals, tangents):
     return w, dw
 
 
+@drop_in("mobman.model.spectra.eigh")
 def eigh(a: jnp.ndarray, sweeps: int = SWEEPS) -> tuple[jnp.ndarray, jnp.ndarray]:
     """Eigenvalues (..., n) in descending order and the matching unit eigenvectors (..., n, n) as columns."""
     return _eigh_descending(a, True, sweeps)
 
 
-def gram(a: jnp.ndarray) -> jnp.ndarray:
-    """The smaller Gram matrix of (..., m, k): A Aᵀ (m × m) if m ≤ k, else Aᵀ A (k × k).
-
-    Its eigenvalues are the squared singular values σ_1² ≥ … ≥ σ_min(m,k)² of A.
-    """
-    m, k = a.shape[-2:]
-    if m > k:
-        a = jnp.swapaxes(a, -1, -2)
-    return matmul_expanded(a, jnp.swapaxes(a, -1, -2))
-
-
-__all__ = ["SWEEPS", "eigh", "eigvalsh", "gram", "round_robin_pairs"]
+__all__ = ["SWEEPS", "eigh", "eigvalsh", "round_robin_pairs"]

@@ -1,21 +1,23 @@
-"""Batched evaluation of one-configuration kernels, blocked for the CPU cache.
+"""Batched execution of per-configuration functions: one decorator, :func:`batched`.
 
-``vmap`` over a large batch makes XLA evaluate every intermediate of a kernel (a frame, a Jacobian column, a
-Jacobi rotation's state) as an array over the whole batch: on the CPU these arrays outgrow the caches, and a
-kinematic chain or an eigenvalue sweep becomes bound by memory traffic. :func:`blocked` instead runs the
-kernel on blocks of :data:`BLOCK` configurations, one after the other inside a single compiled loop
-(a ``fori_loop`` that reads each block in place and writes it into the output), so each block's
-intermediates stay in the L1/L2 cache. On
-the project's 2-core CPU this makes J̄ plus the three manipulability measures of a 7-joint arm about 35 %
-faster than one vmap over 100,000 configurations (``benchmarks/kinematics.py``). On accelerators, where one
-wide kernel over the whole batch is what the hardware wants, and for batches of at most one block, it is
-plain ``vmap``.
+A kinematic or dynamic quantity is written for one configuration (``q`` of shape (n_q,)), as the papers
+write it. :func:`batched` turns such a function into the public batched one: it validates the arguments once
+at the NumPy boundary, compiles the function with the robot (and the other options) as static arguments,
+evaluates it over the leading dimensions of its array arguments in cache-sized blocks (:func:`blocked`) and
+spreads a large CPU batch over the cores (:func:`across_cores`).
 
-A compiled XLA program runs on one CPU core. :func:`across_cores` spreads a large batch over the cores: the
-public batched functions split it into one equal share per core, run the compiled function on the shares
-from a thread pool (XLA releases the GIL while it computes) and join the results, about 1.6–1.9× faster on the
-project's 2-core machine for J̄ and the measures of 100,000 configurations. Traced calls (inside ``jit``,
-``grad``, ``vmap``), accelerators and batches smaller than two :data:`MIN_SHARE` are one plain call.
+**Blocks.** ``vmap`` over a large batch makes XLA evaluate every intermediate of a kernel (a frame, a
+Jacobian column, a Jacobi rotation's state) as an array over the whole batch: on the CPU these arrays outgrow
+the caches, and a kinematic chain or an eigenvalue sweep becomes bound by memory traffic. :func:`blocked`
+instead runs the kernel on blocks of :data:`BLOCK` configurations, one after the other inside a single
+compiled loop (a ``fori_loop`` that reads each block in place and writes it into the output), so each
+block's intermediates stay in the L1/L2 cache. On accelerators, where one wide kernel over the whole batch is
+what the hardware wants, and for batches of at most one block, it is plain ``vmap``.
+
+**Cores.** A compiled XLA program runs on one CPU core. :func:`across_cores` splits a large batch into one
+equal share per core, runs the compiled function on the shares from a thread pool (XLA releases the GIL while
+it computes) and joins the results. Traced calls (inside ``jit``, ``grad``, ``vmap``), accelerators and
+batches smaller than two :data:`MIN_SHARE` are one plain call.
 """
 
 from __future__ import annotations
@@ -31,13 +33,70 @@ import jax.numpy as jnp
 import numpy as np
 
 BLOCK = 128
-"""Configurations per block on the CPU (measured: 64–128 best for the Panda's J̄ and 6 × 6 eigenvalues)."""
+"""Configurations per block on the CPU (64–128 are best for a Panda's J̄ and 6 × 6 eigenvalues)."""
 
 WORKERS = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 """Shares a large CPU batch is split into: the cores this process may run on (set it to 1 to disable)."""
 
 MIN_SHARE = 16 * BLOCK
-"""Smallest share worth a thread of its own (2,048 configurations: splitting costs about 0.1–0.3 ms)."""
+"""Smallest share worth a thread of its own (2,048 configurations: splitting costs a fraction of a ms)."""
+
+
+def batched(
+    core_dims: dict[int, int],
+    static: tuple[int, ...] = (),
+    validate: Callable[..., tuple] | None = None,
+    min_share: int | None = None,
+) -> Callable[[Callable], Callable]:
+    """Decorator: a function written for one configuration becomes the public batched function.
+
+    ``core_dims`` maps the position of every batched argument to its number of core dimensions (1 for a
+    configuration q of shape (n_q,), 2 for a matrix); the decorated function receives one configuration of
+    each and the public one takes any leading dimensions (broadcast between the batched arguments) and
+    returns results with those leading dimensions. ``static``: the positions of the hashable arguments the
+    program is compiled for (robots, tasks, options). ``validate``: called with the public call's arguments
+    (positional and keyword), it checks them once, outside the compiled code, and returns every argument
+    by position (checked arrays, resolved defaults). ``min_share``: see :func:`across_cores`.
+
+    The call runs: ``validate`` → :func:`across_cores` → ``jax.jit`` (``static``) → :func:`blocked` →
+    the function. The function itself stays plain (``fn.one``): traced code calls it, not the public
+    function, whose validation needs concrete arrays.
+    """
+    arrays = tuple(sorted(core_dims))
+
+    def decorate(fn: Callable) -> Callable:
+        def program(*args):
+            def one(*xs):
+                full = list(args)
+                for i, x in zip(arrays, xs):
+                    full[i] = x
+                return fn(*full)
+
+            return blocked(one, tuple(core_dims[i] for i in arrays))(*(args[i] for i in arrays))
+
+        compiled = across_cores(core_dims, min_share)(jax.jit(program, static_argnums=static))
+
+        if validate is None:
+
+            @functools.wraps(fn)
+            def public(*args):
+                return compiled(*args)
+
+        else:
+
+            @functools.wraps(fn)
+            def public(*args, **kwargs):
+                return compiled(*validate(*args, **kwargs))
+
+        public.one = fn  # type: ignore[attr-defined]
+        return public
+
+    return decorate
+
+
+def traced(x: object) -> bool:
+    """Whether ``x`` is an abstract value of a JAX transformation (no values to check)."""
+    return isinstance(x, jax.core.Tracer)
 
 
 def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1) -> Callable:
@@ -94,12 +153,12 @@ def across_cores(core_ndims: dict[int, int], min_share: int | None = None) -> Ca
     such as whole simulations).
     """
 
-    batched = tuple(core_ndims.items())
+    positions = tuple(core_ndims.items())
 
     def decorate(compiled: Callable) -> Callable:
         @functools.wraps(compiled)
         def call(*args, **kwargs):
-            plan = _share_plan(args, batched, MIN_SHARE if min_share is None else min_share)
+            plan = _share_plan(args, positions, MIN_SHARE if min_share is None else min_share)
             if plan is None:
                 return compiled(*args, **kwargs)
             return _shared_call(compiled, args, kwargs, *plan)
@@ -202,4 +261,4 @@ def _pool(workers: int) -> ThreadPoolExecutor:
     return ThreadPoolExecutor(max_workers=workers, thread_name_prefix="mobman")
 
 
-__all__ = ["BLOCK", "MIN_SHARE", "WORKERS", "across_cores", "blocked"]
+__all__ = ["BLOCK", "MIN_SHARE", "WORKERS", "across_cores", "batched", "blocked", "traced"]

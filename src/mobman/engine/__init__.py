@@ -1,0 +1,14 @@
+"""Everything tuned for speed, behind the model's plain definitions.
+
+- :mod:`mobman.engine.batched`: the :func:`~mobman.engine.batched.batched` decorator that turns a
+  per-configuration function into the public batched one (validation once at the NumPy boundary, ``jit``,
+  cache-sized blocks, core sharing).
+- :mod:`mobman.engine.kernels`: the registry that swaps a tuned drop-in in for a plain definition of the model.
+- The drop-ins: :mod:`~mobman.engine.products` (written-out small products, constants as scalars, Rodrigues'
+  formula), :mod:`~mobman.engine.linalg` (the batched Jacobi eigensolver), :mod:`~mobman.engine.frame_rule`
+  (the closed-form derivative of a frame's Jacobians).
+
+Importing the package registers every drop-in.
+"""
+
+from mobman.engine import frame_rule, linalg, products  # noqa: F401  (registers the drop-ins)

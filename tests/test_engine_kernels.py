@@ -1,0 +1,204 @@
+"""Every drop-in of the engine against the plain definition it replaces (mobman.engine.kernels): the same
+values and the same forward-mode derivatives, on random inputs and at the angles ±π/2, π.
+
+The test walks the registry: a new drop-in without an example here fails ``test_every_drop_in_has_examples``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import mobman  # noqa: F401  (float64; imports the model, whose definitions register themselves)
+from mobman.engine import kernels, products
+from mobman.model import robots, spatial, spectra  # noqa: F401  (spectra: its definitions register)
+
+RNG = np.random.default_rng(19)
+ANGLES = np.array([-math.pi, -math.pi / 2, 0.0, math.pi / 2, math.pi, 0.3, -2.1])
+
+
+def _rotations(count: int) -> np.ndarray:
+    """Rotation matrices, among them turns by ±π/2 and π about the axes."""
+    rs = [spatial.rot_z(a) @ spatial.rot_x(b) for a, b in zip(ANGLES, ANGLES[::-1])]
+    rs += [np.linalg.qr(RNG.normal(size=(3, 3)))[0] for _ in range(count)]
+    return np.stack(rs)
+
+
+def _symmetric(n: int, batch: tuple[int, ...] = ()) -> np.ndarray:
+    """Symmetric matrices with well separated eigenvalues (the eigenvectors are then differentiable)."""
+    q = np.linalg.qr(RNG.normal(size=batch + (n, n)))[0]
+    w = np.arange(n, 0, -1, dtype=float) + RNG.uniform(0, 0.3, size=batch + (n,))
+    return (q * w[..., None, :]) @ np.swapaxes(q, -1, -2)
+
+
+def _symmetrized(a):
+    """(A + Aᵀ) / 2: the solvers read one triangle of A, so derivatives are compared along symmetric A."""
+    return 0.5 * (a + jnp.swapaxes(a, -1, -2))
+
+
+def _projectors(out):
+    """Eigenvalues and v_i v_iᵀ (the eigenvectors up to their signs)."""
+    w, v = out
+    return w, jnp.einsum("...ai,...bi->...iab", v, v)
+
+
+def _tool(frames):
+    return frames.links[0][0][-1], frames.links[0][1][-1]
+
+
+def _panda_q() -> np.ndarray:
+    robot = robots.panda_differential()
+    q = RNG.uniform(-math.pi, math.pi, size=(3, robot.n_q))
+    q[0, :] = ANGLES[np.arange(robot.n_q) % len(ANGLES)]
+    return q
+
+
+PANDA = robots.panda_differential()
+
+# name → (cases: tuples of arguments, index of the argument differentiated, view of the result compared,
+#         map of the differentiated argument before the call)
+EXAMPLES = {
+    "mobman.model.spatial.unstack": (
+        [(RNG.normal(size=(4, 3)),), (RNG.normal(size=(2, 3, 5)), 0), (_rotations(2), -2)],
+        0,
+        None,
+        None,
+    ),
+    "mobman.model.spatial.matmul_expanded": (
+        [(_rotations(3), _rotations(3)[::-1]), (RNG.normal(size=(6, 9)), RNG.normal(size=(9, 6)))],
+        0,
+        None,
+        None,
+    ),
+    "mobman.model.spatial.matvec_constant": (
+        [(_rotations(3), np.array([0.0, 1.0, -0.3])), (_rotations(1), np.zeros(3))],
+        0,
+        None,
+        None,
+    ),
+    "mobman.model.spatial.matmul_constant": (
+        [(_rotations(3), spatial.rot_x(math.pi / 2)), (_rotations(2), RNG.normal(size=(3, 3)))],
+        0,
+        None,
+        None,
+    ),
+    "mobman.model.spatial.cross": (
+        [
+            (RNG.normal(size=(5, 3)), RNG.normal(size=(5, 3))),
+            (RNG.normal(size=(3, 4)), RNG.normal(size=(3, 4)), 0),
+        ],
+        0,
+        None,
+        None,
+    ),
+    "mobman.model.arm.rodrigues": (
+        [
+            (spatial.rot_y(math.pi / 2), spatial.skew([0.0, 0.0, 1.0]), ANGLES),
+            (np.eye(3), spatial.skew(np.array([1.0, 2.0, -0.5]) / np.sqrt(5.25)), ANGLES),
+        ],
+        2,
+        None,
+        None,
+    ),
+    "mobman.model.spectra.eigvalsh": (
+        [
+            (_symmetric(2),),
+            (_symmetric(3),),
+            (_symmetric(6),),
+            (_symmetric(6, (4,)),),
+            (_symmetric(3, (2, 3)),),
+        ],
+        0,
+        None,
+        _symmetrized,
+    ),
+    "mobman.model.spectra.eigh": (
+        [(_symmetric(2),), (_symmetric(6),), (_symmetric(4, (3,)),)],
+        0,
+        _projectors,
+        _symmetrized,
+    ),
+    "mobman.model.frame_jacobian.frame_jacobian": (
+        [(PANDA, _tool, 0, 6, q) for q in _panda_q()],
+        4,
+        None,
+        None,
+    ),
+}
+
+
+def test_every_drop_in_has_examples():
+    registered = {n for n, k in kernels.registry().items() if k.drop_in is not None}
+    assert registered, "no drop-in registered"
+    assert registered <= set(EXAMPLES), f"drop-ins without examples: {sorted(registered - set(EXAMPLES))}"
+    defined = {n for n, k in kernels.registry().items() if k.definition is not None}
+    assert registered <= defined, f"drop-ins for no definition: {sorted(registered - defined)}"
+
+
+def _as_function(fn, args, wrt, view, lift):
+    def f(x):
+        full = list(args)
+        full[wrt] = x if lift is None else lift(x)
+        out = fn(*full)
+        return out if view is None else view(out)
+
+    return f
+
+
+def _assert_close(got, want, rtol):
+    for a, b in zip(jax.tree.leaves(got), jax.tree.leaves(want)):
+        a, b = np.asarray(a), np.asarray(b)
+        assert a.shape == b.shape
+        scale = max(1.0, float(np.max(np.abs(b))) if b.size else 1.0)
+        np.testing.assert_allclose(a, b, rtol=0, atol=rtol * scale)
+
+
+@pytest.mark.parametrize("name", sorted(EXAMPLES))
+def test_drop_in_equals_its_definition_with_its_derivative(name):
+    kernel = kernels.registry()[name]
+    assert kernel.drop_in is not None and kernel.definition is not None
+    cases, wrt, view, lift = EXAMPLES[name]
+    for args in cases:
+        plain = _as_function(kernel.definition, args, wrt, view, lift)
+        tuned = _as_function(kernel.drop_in, args, wrt, view, lift)
+        x = jnp.asarray(args[wrt], dtype=float)
+        _assert_close(jax.jit(tuned)(x), jax.jit(plain)(x), 1e-12)
+        _assert_close(jax.jit(jax.jacfwd(tuned))(x), jax.jit(jax.jacfwd(plain))(x), 1e-9)
+
+
+def test_a_definition_runs_its_drop_in_and_keeps_the_plain_function():
+    kernel = kernels.registry()["mobman.model.spatial.matmul_expanded"]
+    assert spatial.matmul_expanded.definition is kernel.definition
+    a = RNG.normal(size=(3, 3))
+    np.testing.assert_allclose(spatial.matmul_expanded(jnp.asarray(a), jnp.asarray(a)), a @ a, atol=1e-14)
+
+
+def test_a_second_drop_in_for_one_definition_is_refused():
+    with pytest.raises(ValueError, match="already registered"):
+        kernels.drop_in("mobman.model.spatial.matmul_expanded")(lambda a, b: a @ b)
+
+
+def test_products_by_constants_written_over_their_nonzero_entries():
+    """products.combine / matvec_constant / matmul_constant / constant_combination / compose_fixed_pose equal
+    NumPy's products (zeros, ±1 and general entries; batched), and an all-zero combination is None."""
+    rng = np.random.default_rng(11)
+    a = rng.normal(size=(5, 3, 3))
+    c = np.array([[0.0, 1.0, -2.5], [-1.0, 0.0, 0.0], [0.0, 0.25, 0.0]])
+    v = np.array([0.0, -1.0, 0.7])
+    np.testing.assert_allclose(spatial.matmul_constant(jnp.asarray(a), c), a @ c, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(spatial.matvec_constant(jnp.asarray(a), v), a @ v, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(spatial.matvec_constant(jnp.asarray(a), np.zeros(3)), np.zeros((5, 3)))
+    assert products.combine([jnp.ones(2)] * 3, [0.0, 0.0, 0.0]) is None
+    f = rng.normal(size=(3, 5))
+    expected = sum(f[n][:, None, None] * m for n, m in enumerate((c, c.T, np.eye(3))))
+    combined = products.constant_combination((c, c.T, np.eye(3)), tuple(jnp.asarray(x) for x in f))
+    np.testing.assert_allclose(combined, expected, rtol=0, atol=1e-15)
+    t = spatial.transform(spatial.rot_x(math.pi / 2), (0.1, 0.0, -0.3))
+    r, p = spatial.compose_fixed_pose((jnp.asarray(a), jnp.asarray(a[:, 0])), t)
+    m = spatial.as_matrix(t)
+    np.testing.assert_allclose(r, a @ m[:3, :3], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(p, a @ m[:3, 3] + a[:, 0], rtol=0, atol=1e-15)
