@@ -39,6 +39,9 @@ from mobman.model import CarLike, DifferentialDrive, EulerAngles, Omnidirectiona
 
 SPECIAL = (0.0, math.pi / 2, -math.pi / 2, math.pi, -math.pi)
 BATCH = 4  # configurations per example: one shape, one compilation per robot and function
+# twice 6 for the dynamics: the 12 configurations whose H test_urdf_pinocchio.py compiles for TIAGo and Stretch
+DYNAMIC_BATCH = 6
+WIDTH = 24  # columns the measures see (more than any built-in robot has quasi-velocities)
 SETTINGS = settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 ANGLES = st.sampled_from(SPECIAL) | st.floats(-math.pi, math.pi)
 POSITIONS = st.sampled_from((0.0,)) | st.floats(-3.0, 3.0)
@@ -77,8 +80,8 @@ def _configuration(robot) -> st.SearchStrategy[list[float]]:
     return st.tuples(POSITIONS, POSITIONS, *([ANGLES] * (robot.platform.n_q - 2)), *arm).map(list)
 
 
-def _batch(robot) -> st.SearchStrategy[np.ndarray]:
-    return st.lists(_configuration(robot), min_size=BATCH, max_size=BATCH).map(np.array)
+def _batch(robot, size: int = BATCH) -> st.SearchStrategy[np.ndarray]:
+    return st.lists(_configuration(robot), min_size=size, max_size=size).map(np.array)
 
 
 MOTIONS = st.tuples(ANGLES, POSITIONS, POSITIONS)
@@ -188,25 +191,28 @@ def test_identities_of_every_robot(robot):
     check()
 
 
+def _padded(j: np.ndarray) -> np.ndarray:
+    """j with zero columns up to WIDTH: the same singular values, measures and ellipsoid, and one shape for
+    every robot whose task has as many rows (one compilation of the measures serves them all)."""
+    return np.concatenate([j, np.zeros((*j.shape[:-1], WIDTH - j.shape[-1]))], axis=-1)
+
+
 def _check_measures(robot, jac: np.ndarray, jbar: np.ndarray) -> None:
-    """w, w2, w5 of J_a, J̄, J̄_N equal before and after the motion (one call: J_a padded with zero columns to
-    the width of J̄, which keeps its singular values); restricted to the rank of J̄ where that is below m
-    (``rank="auto"``'s choice: bayle-rrp's J̄ has rank 4 of 5 everywhere). The ellipsoid of J̄_N (or J̄)."""
+    """w, w2, w5 of J_a, J̄, J̄_N equal before and after the motion (one call, each matrix padded with zero
+    columns); restricted to the rank of J̄ where that is below m (``rank="auto"``'s choice: bayle-rrp's J̄ has
+    rank 4 of 5 everywhere). The ellipsoid of J̄_N (or J̄)."""
     limits = robot.velocity_limits
-    jn = jbar if limits is None else jbar * np.asarray(limits)
-    arm = np.zeros_like(jbar)
-    arm[..., : robot.arms[0].n_joints] = jac[..., robot.arm_slice(0)]
+    jn = _padded(jbar if limits is None else jbar * np.asarray(limits))
+    kinds = np.stack([_padded(jac[..., robot.arm_slice(0)]), _padded(jbar), jn])  # (J_a, J̄, J̄_N)
     m, k = jbar.shape[-2:]
     r = int(np.linalg.matrix_rank(jbar).max())
-    values = mp.measures(np.concatenate([arm, jbar, jn]), None if r == min(m, k) else r)
-    sigma1 = np.linalg.svd(np.stack([arm, jbar, jn]), compute_uv=False)[..., 0].max(
-        axis=-1
-    )  # per matrix kind
+    values = mp.measures(kinds.reshape(-1, m, WIDTH), None if r == min(m, k) else r)
+    sigma1 = np.linalg.svd(kinds, compute_uv=False)[..., 0].max(axis=-1)  # per kind
     # accuracy of σ_i from the Gram matrix's eigenvalues: about √eps · σ_1 absolute on a tiny σ_i; w in units
     # of σ_1^r
     unit = {"yoshikawa": sigma1[:, None, None] ** r, "inverse_condition": 1.0, "eccentricity": 1.0}
     for name, value in values.items():
-        value = np.asarray(value).reshape(3, 2, BATCH) / unit[name]  # (J_a, J̄, J̄_N) × (before, after)
+        value = np.asarray(value).reshape(3, 2, BATCH) / unit[name]  # kind × (before, after) × batch
         np.testing.assert_allclose(value[:, 1], value[:, 0], rtol=1e-9, atol=1e-7, err_msg=name)
     axes, directions = (np.asarray(a) for a in mp.ellipsoid(jn))
     sigma = np.linalg.svd(jn, compute_uv=False)  # NumPy's LAPACK SVD, not mobman's eigensolver
@@ -239,13 +245,13 @@ def test_reduced_mass_matrix_is_spd_and_frame_invariant(name):
     model = _dynamic_models()[name]
 
     @SETTINGS
-    @given(q=_batch(model.robot), motion=MOTIONS)
+    @given(q=_batch(model.robot, DYNAMIC_BATCH), motion=MOTIONS)
     def check(q, motion):
         h = np.asarray(dyn.reduced_mass_matrix(model, np.concatenate([q, _moved(q, motion)])))
         scale = np.abs(h).max()
         np.testing.assert_allclose(h, np.swapaxes(h, -1, -2), atol=1e-13 * scale)
         eig = np.linalg.eigvalsh(h)
         assert (eig > 1e-9 * scale).all(), eig.min(axis=-1)
-        np.testing.assert_allclose(h[BATCH:], h[:BATCH], atol=1e-11 * scale)
+        np.testing.assert_allclose(h[DYNAMIC_BATCH:], h[:DYNAMIC_BATCH], atol=1e-11 * scale)
 
     check()
