@@ -3,12 +3,13 @@ and every built-in robot (the papers' robots, the Panda, and the real robots whe
 
 - every platform: G(q_p) S(q_p) = 0 with rank S = δ_p and rank G = n_p − δ_p (S spans the admissible
   velocities, Bayle §4.1, Tchoń eq. 31), and a world rotation maps admissible velocities to admissible ones;
-- every robot: G(q) S(q) = 0 and J̄ = J S (Bayle eq. 2: the public ``kinematics.reduced_jacobian`` against
-  ``jacobian`` @ ``S``) for its own task and a ZYX Euler-angle task, on the finite rows only where the task
-  flags a representation singularity (``kinematics.representation_singular``);
+- every robot: G(q) S(q) = 0 and J̄ = J S (Bayle eq. 2: ``kinematics.reduced_jacobian_one`` against
+  ``jacobian_one`` @ ``robot.S``) for its own task and a ZYX Euler-angle task, on the finite rows only where
+  the task flags a representation singularity (``task.representation_singular``; the public batched
+  functions against these: tests/test_task_range.py);
 - frame invariance: a rigid motion of the platform in the world (θ → θ + α, (x, y) rotated by α and
   translated) leaves the flags, the Euler task's J̄ and the manipulability measures w, w2, w5 (Nait-Chabane
-  eq. 17–19; arm, system, normalised system, plain and restricted) unchanged;
+  eq. 17–19; arm, system, normalised system; restricted to the rank of J̄ where it is below m) unchanged;
 - the velocity ellipsoid {J̄_N η : ‖η‖ ≤ 1} (Nait-Chabane §3.1): semi-axes = singular values (NumPy's SVD),
   directions = eigenvectors of J̄_N J̄_Nᵀ;
 - dynamic models: the reduced mass matrix H = Sᵀ M S (Yamamoto & Yun) symmetric positive definite and
@@ -17,7 +18,7 @@ and every built-in robot (the papers' robots, the Panda, and the real robots whe
 Autodiff = closed form = central finite differences for every task's Jacobian over the whole range is
 tests/test_task_range.py. Each angle is drawn from 0, ±π/2, ±π mixed with floats over its whole range (a
 joint's limits where it has them, both ends included); each hypothesis example is a batch of configurations of
-one fixed shape, so each robot's functions compile once.
+one fixed shape, so each robot's kinematics compile once.
 """
 
 from __future__ import annotations
