@@ -191,19 +191,7 @@ def test_function_task_elbow_angle():
 
 
 # --- properties -----------------------------------------------------------------------------------
-
-
-@pytest.mark.parametrize("robot", ALL, ids=lambda r: r.name)
-@settings(max_examples=25, deadline=None)
-@given(data=st.data())
-def test_constraints_annihilate_S_and_reduced_jacobian_is_J_S(robot, data):
-    q = np.array(data.draw(st.lists(angles, min_size=robot.n_q, max_size=robot.n_q)))
-    np.testing.assert_allclose(
-        np.asarray(K.constraints(robot, q)) @ np.asarray(K.S(robot, q)), 0.0, atol=1e-14
-    )
-    np.testing.assert_allclose(
-        K.reduced_jacobian(robot, q), np.asarray(K.jacobian(robot, q)) @ np.asarray(K.S(robot, q)), atol=1e-14
-    )
+# G S = 0, J̄ = J S and frame invariance for every built-in robot and platform: tests/test_identities.py
 
 
 @settings(max_examples=25, deadline=None)
