@@ -36,7 +36,8 @@ import mobman.io  # noqa: F401  (registers the real robots when mobman[robots] i
 from mobman import dynamics as dyn
 from mobman import kinematics as K
 from mobman import manipulability as mp
-from mobman.model import CarLike, DifferentialDrive, EulerAngles, Omnidirectional, Platform, robots
+from mobman.model import CarLike, DifferentialDrive, EulerAngles, Platform, SkidSteer, robots
+from mobman.model.platforms import platform_class, platform_kinds
 
 SPECIAL = (0.0, math.pi / 2, -math.pi / 2, math.pi, -math.pi)
 BATCH = 4  # configurations per example: one shape, one compilation per robot and function
@@ -47,13 +48,13 @@ SETTINGS = settings(max_examples=4, deadline=None, suppress_health_check=[Health
 ANGLES = st.sampled_from(SPECIAL) | st.floats(-math.pi, math.pi)
 POSITIONS = st.sampled_from((0.0,)) | st.floats(-3.0, 3.0)
 
-PLATFORMS = [
-    DifferentialDrive(),
+PLATFORMS = [platform_class(kind)() for kind in platform_kinds()] + [
     DifferentialDrive(wheel_radius=0.075, half_track=0.171),
-    CarLike(),
     CarLike(length=0.4),
-    Omnidirectional(),
+    SkidSteer(x_icr=0.1, track_factor=1.6),
 ]
+"""Every registered platform kind with its default parameters (a new kind is covered without an edit here),
+and a few other parameters."""
 
 
 def _concrete(cls: type) -> set[type]:
@@ -111,7 +112,7 @@ def _rotation(n: int, alpha: float) -> np.ndarray:
 
 
 def test_every_platform_is_covered():
-    assert _concrete(Platform) <= {type(p) for p in PLATFORMS}
+    assert _concrete(Platform) <= {type(p) for p in PLATFORMS}  # every subclass is registered by a kind
 
 
 @pytest.mark.parametrize("platform", PLATFORMS, ids=repr)
