@@ -34,8 +34,8 @@ from typing import Callable, Iterator, Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.flatten_util import ravel_pytree
 
+from mobman import integration, integration_scan
 from mobman.batching import across_cores
 from mobman.control.laws import AugmentedJacobian
 from mobman.control.references import Reference
@@ -107,46 +107,21 @@ def _unicycle_exp(q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
     return jnp.concatenate([pose, q[3:] + u[2:]])
 
 
-# Butcher-like tables: stage i evaluates the law at Y_i, t + c_i h. Lie: Y_i = q ∘ exp(h A_i·X) ∘ exp(h B_i·X);
-# RK4: Y_i = q + h A_i·K with K_j = S(Y_j) X_j. The combinations are ``matvec`` broadcast sums, which XLA
-# fuses (a ``w @ rows`` product is a kernel of its own). One law call site inside a scan over the stages
-# keeps the compiled program (and the compilation time) the size of one law evaluation.
-_A = np.array([[0.0, 0.0, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0]])
-_B_LIE = np.array([[0.0, 0.0, 0.0, 0.0]] * 3 + [[-0.5, 0.0, 1.0, 0.0]])
-_A_RK4 = np.array([[0.0, 0.0, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
-_C = np.array([0.0, 0.5, 0.5, 1.0])
-_LIE_OUT = (np.array([3.0, 2.0, 2.0, -1.0]) / 12.0, np.array([-1.0, 2.0, 2.0, 3.0]) / 12.0)
-_RK4_OUT = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
-
-
 def _step(robot, integrator, control, q, t, h):
-    """One integration step: (q_next, q_mid or None, η at t, the law's info at t)."""
+    """One integration step: (q_next, q_mid or None, η at t, the law's info at t). ``"lie"``: the
+    commutator-free method :data:`~mobman.integration.CF4` with the slopes k_i = η_i in the Lie algebra and
+    the exact arcs of the platform as exponential; ``"rk4"``: :data:`~mobman.integration.RK4` on
+    q̇ = S(q) η."""
     lie = integrator == "lie"
-    unravel = []  # set while the stage is traced: how to split a sample back into (η, info)
 
-    def stage(carry, row):
-        x, k = carry
-        onehot, a, b, c = row
-        if lie:
-            y = _unicycle_exp(_unicycle_exp(q, h * matvec(x.T, a)), h * matvec(x.T, b))
-        else:
-            y = q + h * matvec(k.T, a)
-        eta, info = control(y, t + c * h)
-        x = x + onehot[:, None] * eta
-        # the stage's η and info as one vector: one output buffer written per stage instead of one per entry
-        sample, split = ravel_pytree((eta, info))
-        unravel[:] = [split]
-        return (x, k + onehot[:, None] * matvec(robot.S(y), eta)), sample
+    def f(s, y):
+        eta, info = control(y, s)
+        return (eta if lie else matvec(robot.S(y), eta)), (eta, info)
 
-    zeros = (jnp.zeros((4, robot.n_eta), q.dtype), jnp.zeros((4, robot.n_q), q.dtype))
-    table = (np.eye(4), _A if lie else _A_RK4, _B_LIE, _C)
-    (x, k), samples = jax.lax.scan(stage, zeros, table)
-    if lie:
-        q_mid = _unicycle_exp(q, h * matvec(x.T, _LIE_OUT[0]))
-        q_next = _unicycle_exp(q_mid, h * matvec(x.T, _LIE_OUT[1]))
-    else:
-        q_mid, q_next = None, q + h * matvec(k.T, _RK4_OUT)
-    return (q_next, q_mid, *unravel[0](samples[0]))
+    tab, exp = (integration.CF4, _unicycle_exp) if lie else (integration.RK4, None)
+    q_next, junctions, (eta, info) = integration_scan.step_path(tab, f, q, t, h, exp=exp, has_aux=True)
+    first = jax.tree.map(lambda a: a[0], (eta, info))
+    return (q_next, junctions[0] if lie else None, *first)
 
 
 def _hold(robot, q, eta, h):
