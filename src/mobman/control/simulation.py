@@ -3,8 +3,9 @@
 Integrators (``integrator=``):
 
 ``"lie"`` (default for a differential-drive platform) — the commutator-free Lie-group Runge–Kutta method of
-    order 4 of Celledoni, Marthinsen & Owren (*Future Gener. Comput. Syst.* 19, 2003) on SE(2) × Rⁿ, with the
-    quasi-velocities η = (v, ω, q̇_a) as body twists (v, 0, ω) of the platform:
+    order 4 of Celledoni, Marthinsen & Owren (*Future Gener. Comput. Syst.* 19, 2003;
+    :data:`mobman.integration.CF4`) on SE(2) × Rⁿ, with the quasi-velocities η = (v, ω, q̇_a) as body twists
+    (v, 0, ω) of the platform:
         X1 = η(q, t),               Y2 = q ∘ exp(h X1/2),           X2 = η(Y2, t + h/2),
         Y3 = q ∘ exp(h X2/2),       X3 = η(Y3, t + h/2),
         Y4 = Y2 ∘ exp(h (X3 − X1/2)), X4 = η(Y4, t + h),
@@ -128,15 +129,7 @@ def _hold(robot, q, eta, h):
     """q after h seconds at constant η (zero-order hold): exact for a differential drive, RK4 otherwise."""
     if isinstance(robot.platform, DifferentialDrive):
         return _unicycle_exp(q, h * eta)
-
-    def velocity(y):
-        return matvec(robot.S(y), eta)
-
-    k1 = velocity(q)
-    k2 = velocity(q + 0.5 * h * k1)
-    k3 = velocity(q + 0.5 * h * k2)
-    k4 = velocity(q + h * k3)
-    return q + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    return integration.step(integration.RK4, lambda t, y: matvec(robot.S(y), eta), q, 0.0, h)
 
 
 def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):
