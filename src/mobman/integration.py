@@ -1,7 +1,7 @@
 """Explicit Runge–Kutta methods given by their Butcher tableau, on a vector space or on a Lie group.
 
 An explicit s-stage method (c, A, b) advances y' = f(t, y) by one step h (Hairer, Nørsett & Wanner, *Solving
-Ordinary Differential Equations I*, §II.1, eq. 1.8):
+Ordinary Differential Equations I*, §II.1):
 
     Y_i = y + h Σ_{j<i} a_ij k_j,    k_i = f(t + c_i h, Y_i),    y_next = y + h Σ_i b_i k_i.
 
@@ -60,7 +60,7 @@ RK4 = Tableau(
     b=(1 / 6, 1 / 3, 1 / 3, 1 / 6),
     order=4,
 )
-"""The classical 4-stage method of order 4 (Hairer, Nørsett & Wanner, §II.1, Table 1.2, left)."""
+"""The classical 4-stage method of order 4 (Hairer, Nørsett & Wanner, §II.1)."""
 
 DOP853 = Tableau(
     c=(
@@ -194,7 +194,7 @@ def add(y: Any, u: Any) -> Any:
     return jax.tree.map(jnp.add, y, u)
 
 
-def increment(h: float, weights: np.ndarray, slopes: list) -> Any:
+def _increment(h: float, weights: np.ndarray, slopes: list) -> Any:
     """h Σ_j w_j k_j over the slopes k_j with a nonzero weight (the zero pytree of k_0 when there is none)."""
     terms = [(w, k) for w, k in zip(weights, slopes) if w != 0.0]
     if not terms:
@@ -223,14 +223,14 @@ def step_path(
         y_i = y
         for alpha in A[:, i, :i]:
             if np.any(alpha):
-                y_i = exp(y_i, increment(h, alpha, slopes))
+                y_i = exp(y_i, _increment(h, alpha, slopes))
         out = f(t + c[i] * h, y_i)
         k_i, aux = out if has_aux else (out, None)
         slopes.append(k_i)
         auxes.append(aux)
     points = [y]
     for beta in b:
-        points.append(exp(points[-1], increment(h, beta, slopes)))
+        points.append(exp(points[-1], _increment(h, beta, slopes)))
     aux = jax.tree.map(lambda *a: jnp.stack(a), *auxes) if has_aux else None
     return points[-1], points[1:-1], aux
 
@@ -267,7 +267,6 @@ __all__ = [
     "add",
     "coefficients",
     "integrate",
-    "increment",
     "step",
     "step_path",
 ]
