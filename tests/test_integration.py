@@ -171,9 +171,7 @@ def test_scan_kernel_has_the_derivatives_of_the_definition():
     def endpoint(kernel):
         def k_of(q0):
             state = (q0, jnp.zeros((3, 2)))
-            return integration.integrate(DOP853, planar_system, state, 0.0, 0.1, 2, stepper=kernel.step_path)[
-                0
-            ][0]
+            return integration.integrate(DOP853, planar_system, state, 0.0, 0.1, 2, stepper=kernel.step)[0][0]
 
         return k_of
 

@@ -247,11 +247,11 @@ def integrate(
     stepper: Callable | None = None,
 ) -> tuple[Any, Any]:
     """n steps from y0 at t0 in one ``lax.scan``: (y after n steps, the states after every step stacked).
-    ``stepper`` is :func:`step_path` (the default) or a drop-in with its signature."""
-    stepper = step_path if stepper is None else stepper
+    ``stepper`` is :func:`step` (the default) or a drop-in with its signature."""
+    stepper = step if stepper is None else stepper
 
     def one(y, k):
-        y_next = stepper(tab, f, y, t0 + k * h, h, exp=exp)[0]
+        y_next = stepper(tab, f, y, t0 + k * h, h, exp=exp)
         return y_next, y_next
 
     return jax.lax.scan(one, y0, jnp.arange(n, dtype=float))

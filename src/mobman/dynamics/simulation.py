@@ -56,7 +56,7 @@ def _simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn, steps: int, dt
         0.0,
         dt,
         steps,
-        stepper=integration_scan.step_path,
+        stepper=integration_scan.step,
     )
     q = jnp.concatenate([q0[None], qs])
     eta = jnp.concatenate([eta0[None], etas])
