@@ -7,7 +7,8 @@ the arm coordinates x stay constant over [0, T]. The output is the robot's task 
 z = (vec Λ, x) ∈ R^{m·N + p}: u1's N coefficients, then u2's, …, then the joint positions.
 
 Integration is a fixed-step explicit Runge–Kutta scheme (:mod:`~mobman.planning.integrators`: DOP853 of order
-8 by default, or RK4; the driver of :mod:`mobman.integration`) in a ``lax.scan``. The Jacobian is computed two ways:
+8 by default, or RK4; the driver of :mod:`mobman.integration`) in a ``lax.scan``. The Jacobian is computed two
+ways:
 
 - :func:`variational` integrates, together with q_p, the variational system (eqs. 5–7) driven by the basis
   functions: Ξ̇ = A(t) Ξ + B(t) (I_m ⊗ φ(t)ᵀ), Ξ(0) = 0, with A = ∂(S_p(q_p) u)/∂q_p and B = S_p(q_p), so that
