@@ -150,6 +150,24 @@ def test_scan_kernel_equals_the_definition(name):
         np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-13)
 
 
+def test_stage_inputs_are_the_signal_at_the_stage_times():
+    """An exogenous signal given at the stage times (``inputs``) is the same as f reading it at t + c_i h."""
+    h, t = 0.2, 0.3
+    inputs = jnp.sin(t + h * jnp.asarray(DOP853.c))[:, None] * jnp.ones(2)
+    y0 = jnp.array([1.0, 1.0])
+
+    def f(s, y, u):
+        return vector_field(s, y) + u
+
+    def reading(s, y):
+        return vector_field(s, y) + jnp.sin(s)
+
+    expected = np.asarray(integration.step(DOP853, reading, y0, t, h))
+    for kernel in (integration, integration_scan):
+        got = kernel.step(DOP853, f, y0, t, h, inputs=inputs)
+        np.testing.assert_allclose(np.asarray(got), expected, rtol=0, atol=1e-15)
+
+
 def test_scan_kernel_equals_the_definition_on_the_group():
     q0 = jnp.array([0.1, 0.2, np.pi, 1.0])
 

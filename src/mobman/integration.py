@@ -202,17 +202,40 @@ def _increment(h: float, weights: np.ndarray, slopes: list) -> Any:
     return jax.tree.map(lambda *ks: h * sum(w * k for (w, _), k in zip(terms, ks)), *(k for _, k in terms))
 
 
+def _stage(inputs: Any, i: int) -> Any:
+    """Stage i's entry of a pytree with a leading stage axis."""
+    return jax.tree.map(lambda a: a[i], inputs)
+
+
 def step(
-    tab: AnyTableau, f: Callable, y: Any, t: Any, h: Any, *, exp: Exp | None = None, has_aux: bool = False
+    tab: AnyTableau,
+    f: Callable,
+    y: Any,
+    t: Any,
+    h: Any,
+    *,
+    exp: Exp | None = None,
+    has_aux: bool = False,
+    inputs: Any = None,
 ) -> Any:
     """One step of the method (module docstring): y_next; with ``has_aux``, f(t, y) returns (k, aux) and the
-    step (y_next, aux) with every stage's aux stacked along a leading axis of length s."""
-    y_next, _, aux = step_path(tab, f, y, t, h, exp=exp, has_aux=has_aux)
+    step (y_next, aux) with every stage's aux stacked along a leading axis of length s. ``inputs``, if given,
+    holds an exogenous signal at the stage times t + c_i h (a pytree with a leading axis s): then stage i
+    evaluates f(t + c_i h, Y_i, inputs[i])."""
+    y_next, _, aux = step_path(tab, f, y, t, h, exp=exp, has_aux=has_aux, inputs=inputs)
     return (y_next, aux) if has_aux else y_next
 
 
 def step_path(
-    tab: AnyTableau, f: Callable, y: Any, t: Any, h: Any, *, exp: Exp | None = None, has_aux: bool = False
+    tab: AnyTableau,
+    f: Callable,
+    y: Any,
+    t: Any,
+    h: Any,
+    *,
+    exp: Exp | None = None,
+    has_aux: bool = False,
+    inputs: Any = None,
 ) -> tuple[Any, list, Any]:
     """:func:`step` with the junctions of the output's composition: (y_next, [y ∘ exp(h Σ β¹_j k_j), …] the
     E − 1 points between its exponentials, the stages' aux stacked or None)."""
@@ -224,7 +247,7 @@ def step_path(
         for alpha in A[:, i, :i]:
             if np.any(alpha):
                 y_i = exp(y_i, _increment(h, alpha, slopes))
-        out = f(t + c[i] * h, y_i)
+        out = f(t + c[i] * h, y_i) if inputs is None else f(t + c[i] * h, y_i, _stage(inputs, i))
         k_i, aux = out if has_aux else (out, None)
         slopes.append(k_i)
         auxes.append(aux)

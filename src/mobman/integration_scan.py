@@ -29,23 +29,38 @@ def _combination(h: Any, weights: jnp.ndarray, slopes: Any) -> Any:
 
 
 def step_path(
-    tab: AnyTableau, f: Callable, y: Any, t: Any, h: Any, *, exp: Exp | None = None, has_aux: bool = False
+    tab: AnyTableau,
+    f: Callable,
+    y: Any,
+    t: Any,
+    h: Any,
+    *,
+    exp: Exp | None = None,
+    has_aux: bool = False,
+    inputs: Any = None,
 ) -> tuple[Any, list, Any]:
     """:func:`mobman.integration.step_path` with the stages in one ``lax.scan`` (module docstring)."""
     exp = add if exp is None else exp
     c, A, b = coefficients(tab)
     stages = len(c)
-    shapes = jax.eval_shape(f, t, y)
+    if inputs is not None:
+        f_of_row = f
+    else:
+
+        def f_of_row(s, x, _):
+            return f(s, x)
+
+    shapes = jax.eval_shape(f_of_row, t, y, jax.tree.map(lambda a: a[0], inputs))
     slope_shapes = shapes[0] if has_aux else shapes
     slopes = jax.tree.map(lambda a: jnp.zeros((stages,) + a.shape, a.dtype), slope_shapes)
     unravel = []  # set while the stage is traced: how to split a stage's flat aux vector back
 
     def stage(slopes, row):
-        onehot, alphas, c_i = row
+        onehot, alphas, c_i, u_i = row
         y_i = y
         for e in range(A.shape[0]):
             y_i = exp(y_i, _combination(h, alphas[e], slopes))
-        out = f(t + c_i * h, y_i)
+        out = f_of_row(t + c_i * h, y_i, u_i)
         k_i, aux = out if has_aux else (out, None)
         slopes = jax.tree.map(
             lambda buffer, k: buffer + onehot.reshape((-1,) + (1,) * jnp.ndim(k)) * k, slopes, k_i
@@ -56,7 +71,7 @@ def step_path(
         unravel[:] = [split]
         return slopes, sample
 
-    rows = (np.eye(stages), np.transpose(A, (1, 0, 2)), c)
+    rows = (np.eye(stages), np.transpose(A, (1, 0, 2)), c, inputs)
     slopes, samples = jax.lax.scan(stage, slopes, rows)
     points = [y]
     for beta in b:
@@ -66,10 +81,18 @@ def step_path(
 
 
 def step(
-    tab: AnyTableau, f: Callable, y: Any, t: Any, h: Any, *, exp: Exp | None = None, has_aux: bool = False
+    tab: AnyTableau,
+    f: Callable,
+    y: Any,
+    t: Any,
+    h: Any,
+    *,
+    exp: Exp | None = None,
+    has_aux: bool = False,
+    inputs: Any = None,
 ) -> Any:
     """:func:`mobman.integration.step` on this kernel."""
-    y_next, _, aux = step_path(tab, f, y, t, h, exp=exp, has_aux=has_aux)
+    y_next, _, aux = step_path(tab, f, y, t, h, exp=exp, has_aux=has_aux, inputs=inputs)
     return (y_next, aux) if has_aux else y_next
 
 

@@ -158,24 +158,33 @@ def _output(setting: PlanningSetting, task: Task, q_p: jnp.ndarray, x: jnp.ndarr
     return task.value(setting.robot, q, setting.robot.frames(q))
 
 
+def _basis_grid(setting: PlanningSetting) -> jnp.ndarray:
+    """φ at the stage times t_k + c_i h of every step, shape (steps, stages, N), each step with its own
+    control (so a piecewise-constant basis switches exactly at step boundaries)."""
+    h = setting.horizon / setting.steps
+    t = h * np.arange(setting.steps)
+    stages = jnp.asarray(t[:, None] + h * np.asarray(integrators.tableau(setting.method).c)[None, :])
+    mid = jnp.asarray(t + 0.5 * h)
+    return jax.vmap(lambda st, w: jax.vmap(lambda s: setting.basis.values(s, setting.horizon, w))(st))(
+        stages, mid
+    )
+
+
 def _integrate(setting: PlanningSetting, rhs, state, record: bool = False):
-    """Fixed-step Runge–Kutta (``setting.method``) of d state/dt = rhs(state, φ(t)) over [0, T], each step
-    with the basis on its own side of a discontinuity (a piecewise-constant basis switches exactly at step
-    boundaries).
+    """Fixed-step Runge–Kutta (``setting.method``) of d state/dt = rhs(state, φ(t)) over [0, T], the basis
+    values φ at the stage times given to the driver as its input.
 
     Returns the final state, and the states after every step if ``record``.
     """
     h = setting.horizon / setting.steps
     method = integrators.tableau(setting.method)
 
-    def step(s, t):
-        def f(time, y):
-            return rhs(y, setting.basis.values(time, setting.horizon, t + 0.5 * h))
-
-        new = integration_scan.step(method, f, s, t, h)
+    def step(s, k):
+        t, phi = k
+        new = integration_scan.step(method, lambda _, y, u: rhs(y, u), s, t, h, inputs=phi)
         return new, (new if record else None)
 
-    return jax.lax.scan(step, state, jnp.asarray(h * np.arange(setting.steps)))
+    return jax.lax.scan(step, state, (jnp.asarray(h * np.arange(setting.steps)), _basis_grid(setting)))
 
 
 def _control(lam: jnp.ndarray, phi: jnp.ndarray) -> jnp.ndarray:
