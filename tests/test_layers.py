@@ -20,6 +20,7 @@ LAYERS = {
     "mobman.errors": 0,
     "mobman.checks": 0,
     "mobman.engine": 0,
+    "mobman.integration": 0,
     "mobman": 1,  # the package itself re-exports the errors and the model
     "mobman.model": 1,
     "mobman.kinematics": 2,

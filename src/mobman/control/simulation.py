@@ -4,8 +4,9 @@ Integrators (``integrator=``):
 
 ``"lie"`` (default for a platform with a constant body twist, S(q_p) = R(θ) B: a differential drive, a
     skid-steer, a fixed base) — the commutator-free Lie-group Runge–Kutta method of
-    order 4 of Celledoni, Marthinsen & Owren (*Future Gener. Comput. Syst.* 19, 2003) on SE(2) × Rⁿ, with the
-    quasi-velocities η = (η_p, q̇_a) as body twists B η_p of the platform ((v, 0, ω) for a differential drive):
+    order 4 of Celledoni, Marthinsen & Owren (*Future Gener. Comput. Syst.* 19, 2003;
+    :data:`mobman.integration.CF4`) on SE(2) × Rⁿ, with the quasi-velocities η = (η_p, q̇_a) as body twists
+    B η_p of the platform ((v, 0, ω) for a differential drive):
         X1 = η(q, t),               Y2 = q ∘ exp(h X1/2),           X2 = η(Y2, t + h/2),
         Y3 = q ∘ exp(h X2/2),       X3 = η(Y3, t + h/2),
         Y4 = Y2 ∘ exp(h (X3 − X1/2)), X4 = η(Y4, t + h),
@@ -36,10 +37,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
-from jax.flatten_util import ravel_pytree
 
+from mobman import integration
 from mobman.control.laws import Law
 from mobman.control.references import Reference
+from mobman.engine import runge_kutta
 from mobman.engine.batched import across_cores
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.robot import MobileManipulator
@@ -103,46 +105,21 @@ def _unicycle_exp(robot, q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
     return jnp.concatenate([robot.platform.displace(q[:n_p], u[:n_e]), q[n_p:] + u[n_e:]])
 
 
-# Butcher-like tables: stage i evaluates the law at Y_i, t + c_i h. Lie: Y_i = q ∘ exp(h A_i·X) ∘ exp(h B_i·X);
-# RK4: Y_i = q + h A_i·K with K_j = S(Y_j) X_j. The combinations are ``matvec`` broadcast sums, which XLA
-# fuses (a ``w @ rows`` product is a kernel of its own). One law call site inside a scan over the stages
-# keeps the compiled program (and the compilation time) the size of one law evaluation.
-_A = np.array([[0.0, 0.0, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0]])
-_B_LIE = np.array([[0.0, 0.0, 0.0, 0.0]] * 3 + [[-0.5, 0.0, 1.0, 0.0]])
-_A_RK4 = np.array([[0.0, 0.0, 0.0, 0.0], [0.5, 0.0, 0.0, 0.0], [0.0, 0.5, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
-_C = np.array([0.0, 0.5, 0.5, 1.0])
-_LIE_OUT = (np.array([3.0, 2.0, 2.0, -1.0]) / 12.0, np.array([-1.0, 2.0, 2.0, 3.0]) / 12.0)
-_RK4_OUT = np.array([1.0, 2.0, 2.0, 1.0]) / 6.0
-
-
 def _step(robot, integrator, control, q, t, h):
-    """One integration step: (q_next, q_mid or None, η at t, the law's info at t)."""
+    """One integration step: (q_next, q_mid or None, η at t, the law's info at t). ``"lie"``: the
+    commutator-free method :data:`~mobman.integration.CF4` with the slopes k_i = η_i in the Lie algebra and
+    the exact arcs of the platform as exponential; ``"rk4"``: :data:`~mobman.integration.RK4` on
+    q̇ = S(q) η."""
     lie = integrator == "lie"
-    unravel: list[Callable] = []  # set while the stage is traced: how to split a sample back into (η, info)
 
-    def stage(carry, row):
-        x, k = carry
-        onehot, a, b, c = row
-        if lie:
-            y = _unicycle_exp(robot, _unicycle_exp(robot, q, h * matvec(x.T, a)), h * matvec(x.T, b))
-        else:
-            y = q + h * matvec(k.T, a)
-        eta, info = control(y, t + c * h)
-        x = x + onehot[:, None] * eta
-        # the stage's η and info as one vector: one output buffer written per stage instead of one per entry
-        sample, split = ravel_pytree((eta, info))
-        unravel[:] = [split]
-        return (x, k + onehot[:, None] * matvec(robot.S(y), eta)), sample
+    def f(s, y):
+        eta, info = control(y, s)
+        return (eta if lie else matvec(robot.S(y), eta)), (eta, info)
 
-    zeros = (jnp.zeros((4, robot.n_eta), q.dtype), jnp.zeros((4, robot.n_q), q.dtype))
-    table = (np.eye(4), _A if lie else _A_RK4, _B_LIE, _C)
-    (x, k), samples = jax.lax.scan(stage, zeros, table)
-    if lie:
-        q_mid = _unicycle_exp(robot, q, h * matvec(x.T, _LIE_OUT[0]))
-        q_next = _unicycle_exp(robot, q_mid, h * matvec(x.T, _LIE_OUT[1]))
-    else:
-        q_mid, q_next = None, q + h * matvec(k.T, _RK4_OUT)
-    return (q_next, q_mid, *unravel[0](samples[0]))
+    tab, exp = (integration.CF4, partial(_unicycle_exp, robot)) if lie else (integration.RK4, None)
+    q_next, junctions, (eta, info) = runge_kutta.step_path(tab, f, q, t, h, exp=exp, has_aux=True)
+    first = jax.tree.map(lambda a: a[0], (eta, info))
+    return (q_next, junctions[0] if lie else None, *first)
 
 
 def _hold(robot, q, eta, h):
@@ -150,15 +127,7 @@ def _hold(robot, q, eta, h):
     (``platform.constant_body_twist``: differential drive, skid-steer, fixed base), RK4 otherwise."""
     if robot.platform.constant_body_twist:
         return _unicycle_exp(robot, q, h * eta)
-
-    def velocity(y):
-        return matvec(robot.S(y), eta)
-
-    k1 = velocity(q)
-    k2 = velocity(q + 0.5 * h * k1)
-    k3 = velocity(q + 0.5 * h * k2)
-    k4 = velocity(q + h * k3)
-    return q + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    return integration.step(integration.RK4, lambda t, y: matvec(robot.S(y), eta), q, 0.0, h)
 
 
 def _trajectory(robot, task, integrator, n, dt, reference, law, q0, k0):

@@ -1,7 +1,6 @@
-"""Forward-dynamics simulation of the reduced equations: one compiled ``lax.scan`` with classical RK4.
-
-The four RK4 stages run in a ``fori_loop`` over the Butcher tableau, so the dynamics are traced and compiled
-once instead of four times (half the compile time, for a slightly slower step).
+"""Forward-dynamics simulation of the reduced equations: one compiled ``lax.scan`` with classical RK4
+(:data:`mobman.integration.RK4`, on the scan-shaped kernel: the dynamics are traced and compiled once, not once
+per stage).
 
 State (q, η) with q̇ = S(q) η and η̇ = P⁻¹ (B τ − b) (:mod:`mobman.dynamics.reduced`). Because q̇ is always
 S(q) η the simulated platform satisfies the nonholonomic constraints exactly (it never slips); the only
@@ -19,8 +18,10 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from mobman import integration
 from mobman.dynamics import reduced
 from mobman.dynamics.inertia import DynamicModel
+from mobman.engine import runge_kutta
 from mobman.errors import InputError
 
 TorqueFn = Callable[[jnp.ndarray, jnp.ndarray, jnp.ndarray], jnp.ndarray]
@@ -50,32 +51,18 @@ def _simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn, steps: int, dt
         tau = torque_fn(t, q, eta)
         return robot.S(q) @ eta, reduced.forward_dynamics_one(model, q, eta, tau)
 
-    nodes = jnp.array(
-        [0.0, 0.5, 0.5, 1.0]
-    )  # classical RK4 tableau: stage i evaluates at y + nodes[i] dt k_{i-1}
-    weights = jnp.array([1.0, 2.0, 2.0, 1.0]) / 6.0
-
-    def step(state, k):
-        q, eta = state
-        t = k * dt
-
-        def stage(i, carry):  # one traced copy of the dynamics for the four stages: a small graph to compile
-            (k_q, k_eta), (sum_q, sum_eta) = carry
-            k_q, k_eta = deriv(t + nodes[i] * dt, q + nodes[i] * dt * k_q, eta + nodes[i] * dt * k_eta)
-            return (k_q, k_eta), (sum_q + weights[i] * k_q, sum_eta + weights[i] * k_eta)
-
-        zero = (jnp.zeros_like(q), jnp.zeros_like(eta))
-        _, (sum_q, sum_eta) = jax.lax.fori_loop(0, 4, stage, (zero, zero))
-        q_next, eta_next = q + dt * sum_q, eta + dt * sum_eta
-        return (q_next, eta_next), (q_next, eta_next, torque_fn(t + dt, q_next, eta_next))
-
-    _, (qs, etas, taus) = jax.lax.scan(step, (q0, eta0), jnp.arange(steps))
-    tau0 = torque_fn(0.0 * dt, q0, eta0)
-    return (
-        jnp.concatenate([q0[None], qs]),
-        jnp.concatenate([eta0[None], etas]),
-        jnp.concatenate([tau0[None], taus]),
+    _, (qs, etas) = integration.integrate(
+        integration.RK4,
+        lambda t, y: deriv(t, *y),
+        (q0, eta0),
+        0.0,
+        dt,
+        steps,
+        stepper=runge_kutta.step,
     )
+    q = jnp.concatenate([q0[None], qs])
+    eta = jnp.concatenate([eta0[None], etas])
+    return q, eta, jax.vmap(torque_fn)(dt * jnp.arange(steps + 1), q, eta)
 
 
 def simulate(

@@ -7,8 +7,8 @@ the arm coordinates x stay constant over [0, T]. The output is the robot's task 
 z = (vec Λ, x) ∈ R^{m·N + p}: u1's N coefficients, then u2's, …, then the joint positions.
 
 Integration is a fixed-step explicit Runge–Kutta scheme (:mod:`~mobman.planning.integrators`: DOP853 of order
-8
-by default, or RK4) in a ``lax.scan``. The Jacobian is computed two ways:
+8 by default, or RK4; the driver of :mod:`mobman.integration`) in a ``lax.scan``. The Jacobian is computed two
+ways:
 
 - :func:`variational` integrates, together with q_p, the variational system (eqs. 5–7) driven by the basis
   functions: Ξ̇ = A(t) Ξ + B(t) (I_m ⊗ φ(t)ᵀ), Ξ(0) = 0, with A = ∂(S_p(q_p) u)/∂q_p and B = S_p(q_p), so that
@@ -32,6 +32,7 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from mobman.engine import runge_kutta
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
 from mobman.model.spatial import matmul, matvec
@@ -165,7 +166,7 @@ def _basis_grid(setting: PlanningSetting) -> jnp.ndarray:
     control (so a piecewise-constant basis switches exactly at step boundaries)."""
     h = setting.horizon / setting.steps
     t = h * np.arange(setting.steps)
-    stages = jnp.asarray(t[:, None] + h * integrators.nodes(setting.method)[None, :])
+    stages = jnp.asarray(t[:, None] + h * np.asarray(integrators.tableau(setting.method).c)[None, :])
     mid = jnp.asarray(t + 0.5 * h)
     return jax.vmap(lambda st, w: jax.vmap(lambda s: setting.basis.values(s, setting.horizon, w))(st))(
         stages, mid
@@ -173,18 +174,20 @@ def _basis_grid(setting: PlanningSetting) -> jnp.ndarray:
 
 
 def _integrate(setting: PlanningSetting, rhs, state, record: bool = False):
-    """Fixed-step Runge–Kutta (``setting.method``) of d state/dt = rhs(state, φ) over [0, T], φ the basis
-    values at the stage time.
+    """Fixed-step Runge–Kutta (``setting.method``) of d state/dt = rhs(state, φ(t)) over [0, T], the basis
+    values φ at the stage times given to the driver as its input.
 
     Returns the final state, and the states after every step if ``record``.
     """
     h = setting.horizon / setting.steps
+    method = integrators.tableau(setting.method)
 
-    def step(s, phi):
-        new = integrators.step(setting.method, rhs, s, phi, h)
+    def step(s, k):
+        t, phi = k
+        new = runge_kutta.step(method, lambda _, y, u: rhs(y, u), s, t, h, inputs=phi)
         return new, (new if record else None)
 
-    return jax.lax.scan(step, state, _basis_grid(setting))
+    return jax.lax.scan(step, state, (jnp.asarray(h * np.arange(setting.steps)), _basis_grid(setting)))
 
 
 def _control(lam: jnp.ndarray, phi: jnp.ndarray) -> jnp.ndarray:
