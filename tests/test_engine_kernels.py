@@ -68,6 +68,16 @@ EXAMPLES = {
         None,
         None,
     ),
+    "mobman.model.tasks.base.rows": (
+        [
+            (RNG.normal(size=(6, 9)), (0, 2, 5)),
+            (RNG.normal(size=(3, 4)), (0, 1, 2)),
+            (RNG.normal(size=(3,)), (2, 0)),
+        ],
+        0,
+        None,
+        None,
+    ),
     "mobman.model.spatial.matmul_expanded": (
         [(_rotations(3), _rotations(3)[::-1]), (RNG.normal(size=(6, 9)), RNG.normal(size=(9, 6)))],
         0,

@@ -30,6 +30,17 @@ def unstack(a: jnp.ndarray, axis: int = -1) -> list[jnp.ndarray]:
     return [jnp.squeeze(x, axis) for x in jax.lax.split(a, (1,) * a.shape[axis], axis=axis)]
 
 
+@drop_in("mobman.model.tasks.base.rows")
+def rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
+    """x[indices] for static row indices from one split of x: indexing with an integer array compiles to a
+    gather, a kernel of its own (and a scatter in reverse-mode derivatives), and a slice per row transposes to
+    a padded array per row."""
+    if indices == tuple(range(x.shape[0])):
+        return x
+    parts = unstack(x, axis=0)
+    return jnp.stack([parts[i] for i in indices])
+
+
 @drop_in("mobman.model.spatial.matmul_expanded")
 def matmul_expanded(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     """a @ b for stacks of small matrices, as the sum of the outer products of a's columns and b's rows."""

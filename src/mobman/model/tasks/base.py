@@ -33,8 +33,8 @@ from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 import jax
 import jax.numpy as jnp
 
+from mobman.engine.kernels import definition
 from mobman.errors import ModelError
-from mobman.model import spatial
 from mobman.model.kinds import Kinds
 
 if TYPE_CHECKING:
@@ -158,14 +158,10 @@ def component_indices(components: str) -> tuple[int, ...]:
     return tuple(_AXES[c] for c in components)
 
 
+@definition
 def rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
-    """x[indices] for static row indices, from one split of x: indexing with an integer array compiles to a
-    gather, a kernel of its own (and a scatter in reverse-mode derivatives), and a slice per row transposes to
-    a padded array per row."""
-    if indices == tuple(range(x.shape[0])):
-        return x
-    parts = spatial.unstack(x, axis=0)
-    return jnp.stack([parts[i] for i in indices])
+    """The rows ``indices`` (static) of x: x[indices]."""
+    return x[jnp.asarray(indices, dtype=int)]
 
 
 def last_moving(robot: MobileManipulator, arm: int, link: int) -> int:
