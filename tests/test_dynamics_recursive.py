@@ -112,7 +112,7 @@ def test_crba_and_rnea_equal_the_definitions(case):
         assert _relative(ours, reference) < 1e-10
 
 
-@pytest.mark.parametrize("name", ["yamamoto", "manus (coupled)", "car-like"])
+@pytest.mark.parametrize("name", ["yamamoto", "manus (coupled)"])
 def test_derivatives_of_the_recursion_equal_those_of_the_definitions(name):
     """∂M/∂q (the Coriolis matrix's Christoffel symbols) and a gradient through P and b agree with the
     definitions' derivatives."""
