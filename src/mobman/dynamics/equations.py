@@ -1,17 +1,19 @@
 """Equations of motion M(q) q̈ + c(q, q̇) + g(q) = E(q) τ + G(q)ᵀ λ in the coordinates q = (x, y, θ, q_a…).
 
-- :func:`mass_matrix` M(q) = Σ_bodies m J_vᵀ J_v + J_ωᵀ R I Rᵀ J_ω, composed from the linear and angular
-  geometric Jacobians of every body's centre of mass (``robot.point_jacobian``): platform body, driving
-  wheels (mass, I_m about a diameter, I_w about the axle), arm links, payload. The wheel spin enters through
+- :func:`mass_matrix` M(q) by the composite-rigid-body algorithm and :func:`generalized_force`
+  M q̈ + c + g by the recursive Newton–Euler algorithm (:mod:`mobman.dynamics.recursive`, Featherstone
+  ch. 6 and 5) on the tree of every massive body (:func:`bodies`): platform body, driving wheels (mass, I_m
+  about a diameter), arm links, payload; :func:`bias` c + g and :func:`gravity_vector` g are the same
+  recursion at q̈ = 0 and at rest. The wheel spin (I_w about the axle) enters through
   φ̇_r,l = (ẋ cos θ + ẏ sin θ ± b θ̇)/r: this equals the wheel speed wherever the wheel rolls, so on the
   constraint manifold (and hence in the reduced equations) it is exactly Yamamoto & Yun's model with the
   wheel angles as coordinates (their eq. 3–12).
-- :func:`bias` c + g: c by autodiff of M in Christoffel form, c_i = Σ_jk Γ_ijk q̇_j q̇_k with
-  Γ_ijk = ½(∂M_ij/∂q_k + ∂M_ik/∂q_j − ∂M_jk/∂q_i), i.e. c = Ṁ q̇ − ½ ∂(q̇ᵀ M q̇)/∂q; g = ∂V/∂q with
-  V(q) = −Σ m gravityᵀ p_com. Nothing is derived by hand.
-- :func:`coriolis_matrix` C(q, q̇) with c = C q̇ and Ṁ − 2C skew-symmetric.
-- :func:`generalized_force` M q̈ + c + g by Newton–Euler and virtual work (:func:`body_forces_one`), without
-  forming M: the fast inverse dynamics, equal to the Lagrange form above (tests; Pinocchio's RNEA).
+- The definitions these are tested against: M(q) = Σ_bodies m J_vᵀ J_v + J_ωᵀ R I Rᵀ J_ω over the bodies'
+  centre-of-mass Jacobians (:func:`mass_matrix_definition_one`), and c + g by autodiff of that M and of
+  V(q) = −Σ m gravityᵀ p_com in Lagrange's form c = Ṁ q̇ − ½ ∂(q̇ᵀ M q̇)/∂q, g = ∂V/∂q
+  (:func:`lagrange_bias_one`); :func:`body_forces_one` the Newton–Euler force of each body by virtual
+  work (the load capacity's per-body split).
+- :func:`coriolis_matrix` C(q, q̇) with c = C q̇ and Ṁ − 2C skew-symmetric (Christoffel symbols of M).
 - :func:`actuation_matrix` E(q): generalized forces of the actuator torques τ = (τ_platform…, τ_joints…)
   (an actuator torque τ does the work τ δu, u = A_p(q) q̇ the platform's actuator rows
   ``platform.actuator_rows``: the wheel rows of a differential drive or a skid-steer; joint torques act on the
@@ -33,9 +35,11 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics
+from mobman.dynamics import recursive
 from mobman.dynamics.inertia import DynamicModel
 from mobman.engine.batched import batched
 from mobman.errors import InputError
+from mobman.model import spatial
 from mobman.model.inertial import Wheel
 from mobman.model.robot import Frames
 
@@ -168,8 +172,103 @@ def _spinning_wheel(model: DynamicModel) -> Wheel | None:
     return model.wheel if model.robot.platform.wheel_actuated else None
 
 
-def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
-    """M(q) for one configuration (n_q × n_q): Σ m J_vᵀ J_v + J_ωᵀ (R I Rᵀ) J_ω over the bodies (+ wheel spin)."""
+def _tree(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None):
+    """The model's kinematic tree at one configuration for :mod:`mobman.dynamics.recursive`: the inertia of
+    the platform's bodies and one :class:`recursive.Chain` per arm (its joints' motion subspace columns and
+    the inertia each joint moves, a payload added to its link's), all about the platform's reference point o
+    in world-aligned axes."""
+    robot = model.robot
+    frames = robot.frames(q)
+    origin = frames.platform[1]
+    parts = bodies(model, frames, payload_mass)
+    rotations = jnp.stack([jnp.broadcast_to(body.rotation, (3, 3)) for body in parts])
+    inertia = spatial.matmul_expanded(
+        spatial.matmul_expanded(rotations, np.stack([body.inertia for body in parts])),
+        jnp.swapaxes(rotations, 1, 2),
+    )
+    every = recursive.RigidInertia.of_bodies(
+        jnp.asarray([body.mass for body in parts], dtype=q.dtype),
+        jnp.stack([body.point for body in parts]) - origin,
+        inertia,
+    )
+
+    def rows(index: list[int]) -> recursive.RigidInertia:
+        return recursive.RigidInertia(*(x[np.asarray(index, dtype=int)] for x in every))
+
+    root = rows([k for k, body in enumerate(parts) if body.arm is None])
+    chains = []
+    for i, arm in enumerate(robot.arms):
+        links = {body.upto: k for k, body in enumerate(parts) if body.arm == i and not body.payload}
+        chain = rows([links[j] for j in range(arm.n_joints)])
+        for k, body in enumerate(parts):
+            if body.arm == i and body.payload:
+                chain = recursive.RigidInertia(*(c.at[body.upto].add(x[k]) for c, x in zip(chain, every)))
+        rs, ps = frames.links[i]
+        axes = jnp.stack([spatial.matvec_constant(rs[j], joint.axis) for j, joint in enumerate(arm.joints)])
+        revolute = np.array([joint.kind == "revolute" for joint in arm.joints])[:, None]
+        columns = recursive.Motion(
+            jnp.where(revolute, axes, 0.0),
+            jnp.where(revolute, spatial.cross(ps[: arm.n_joints] - origin, axes), axes),
+        )
+        chains.append(recursive.Chain(columns, chain))
+    return root, chains
+
+
+def _platform_axes(basis: np.ndarray | jnp.ndarray) -> recursive.Motion:
+    """The platform's motion subspace at o for the columns of ``basis`` (n_p × k) over its coordinates:
+    x, y translate it (0, e_x), (0, e_y), θ turns it about the vertical through o (e_z, 0); further platform
+    coordinates (a steering angle) do not move its bodies."""
+    zero = jnp.zeros_like(basis[0])
+    return recursive.Motion(
+        jnp.stack([zero, zero, basis[2]], axis=-1), jnp.stack([basis[0], basis[1], zero], axis=-1)
+    )
+
+
+def _couple(robot: MobileManipulator, h: jax.Array, k: int) -> jax.Array:
+    """Tᵀ H T with T = diag(1_k, C_1, C_2, …): a matrix over the joints' motion variables → over q_a (each
+    arm's motion = C q_a); H itself when no arm is coupled."""
+    if not any(arm.coupling is not None for arm in robot.arms):
+        return h
+    t = np.eye(h.shape[0])
+    start = k
+    for arm in robot.arms:
+        t[start : start + arm.n_joints, start : start + arm.n_joints] = arm.coupling_matrix
+        start += arm.n_joints
+    return jnp.asarray(t.T) @ h @ jnp.asarray(t)
+
+
+def mass_matrix_one(
+    model: DynamicModel,
+    q: jax.Array,
+    payload_mass: float | None = None,
+    platform_basis: jax.Array | np.ndarray | None = None,
+) -> jnp.ndarray:
+    """M(q) for one configuration (n_q × n_q) by the composite-rigid-body algorithm
+    (:func:`mobman.dynamics.recursive.mass_matrix`, Featherstone §6.2), plus the wheel spin I_w aᵀ a.
+
+    ``platform_basis``: a matrix B (n_p × k) over the platform coordinates; the result is then
+    diag(B, 1)ᵀ M diag(B, 1) ((k + n_a) square), e.g. P = Sᵀ M S with B = S_p(q_p). Equal to
+    :func:`mass_matrix_definition_one` (tests).
+    """
+    robot = model.robot
+    n_p = robot.n_platform
+    basis = np.eye(n_p) if platform_basis is None else platform_basis
+    root, chains = _tree(model, q, payload_mass)
+    m = _couple(robot, recursive.mass_matrix(_platform_axes(basis), root, chains), basis.shape[1])
+    spin = _spinning_wheel(model)
+    if spin is not None:
+        a = wheel_rows(model, q)
+        if platform_basis is not None:
+            a = jnp.concatenate([a[:, :n_p] @ basis, a[:, n_p:]], axis=1)
+        m = m + spin.I_w * a.T @ a
+    return m
+
+
+def mass_matrix_definition_one(
+    model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None
+) -> jnp.ndarray:
+    """M(q) for one configuration by its definition, Σ m J_vᵀ J_v + J_ωᵀ (R I Rᵀ) J_ω over the bodies'
+    centre-of-mass Jacobians (+ wheel spin): the reference :func:`mass_matrix_one` is tested against."""
     jac = body_jacobians(model, q, payload_mass)
     m = jnp.einsum("b,bin,bim->nm", jac.masses, jac.linear, jac.linear) + jnp.einsum(
         "bin,bij,bjm->nm", jac.angular, jac.inertia, jac.angular
@@ -181,6 +280,22 @@ def mass_matrix_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | N
     return m
 
 
+def _wheel_spin_force(model: DynamicModel, q: jax.Array, q_dot: jax.Array, q_ddot: jax.Array) -> jax.Array:
+    """The generalized force of the wheels' spin, T_w = ½ I_w |A(q) q̇|²: Lagrange's d/dt ∂T/∂q̇ − ∂T/∂q
+    (autodiff of the two rows of :func:`wheel_rows`); zero without wheels."""
+    spin = _spinning_wheel(model)
+    if spin is None:
+        return jnp.zeros_like(q)
+
+    def momentum(x, v):
+        a_rows = wheel_rows(model, x)
+        return spin.I_w * a_rows.T @ (a_rows @ v)
+
+    return jax.jvp(momentum, (q, q_dot), (q_dot, q_ddot))[1] - jax.grad(
+        lambda x: 0.5 * q_dot @ momentum(x, q_dot)
+    )(q)
+
+
 def body_forces_one(
     model: DynamicModel, q: jax.Array, q_dot: jax.Array, q_ddot: jax.Array, payload_mass: float | None = None
 ) -> tuple[jax.Array, jax.Array]:
@@ -190,8 +305,7 @@ def body_forces_one(
 
     with J̇ q̇ from one forward-mode jvp of the Jacobians. Q_b = d/dt ∂T_b/∂q̇ − ∂T_b/∂q + ∂V_b/∂q for the
     kinetic and potential energy of body b, so Σ_b Q_b plus the wheel-spin term equals M q̈ + c + g (the
-    Lagrange form of :func:`mass_matrix_one` and :func:`bias_one`, checked in the tests) at the cost of
-    one Jacobian evaluation and its directional derivative — no mass matrix and no reverse pass.
+    Lagrange form of :func:`mass_matrix_definition_one` and :func:`lagrange_bias_one`, checked in the tests).
     Returns (forces (B, n_q) in the body order of :func:`body_jacobians`, the payload last; the wheel-spin
     force (n_q,), zero without wheels).
     """
@@ -205,27 +319,39 @@ def body_forces_one(
     forces = jnp.einsum("b,bin,bi->bn", jac.masses, jac.linear, a) + jnp.einsum(
         "bin,bi->bn", jac.angular, moment
     )
-    wheel = jnp.zeros_like(q)
-    spin = _spinning_wheel(model)
-    if spin is not None:
-        # T_w = ½ I_w |A(q) q̇|²: Lagrange's d/dt ∂T/∂q̇ − ∂T/∂q on the wheel spins (autodiff of two rows)
-        def momentum(x, v):
-            a_rows = wheel_rows(model, x)
-            return spin.I_w * a_rows.T @ (a_rows @ v)
-
-        wheel = jax.jvp(momentum, (q, q_dot), (q_dot, q_ddot))[1] - jax.grad(
-            lambda x: 0.5 * q_dot @ momentum(x, q_dot)
-        )(q)
-    return forces, wheel
+    return forces, _wheel_spin_force(model, q, q_dot, q_ddot)
 
 
 def generalized_force_one(
     model: DynamicModel, q: jax.Array, q_dot: jax.Array, q_ddot: jax.Array, payload_mass: float | None = None
 ) -> jax.Array:
-    """M(q) q̈ + c(q, q̇) + g(q) for one state by Newton–Euler (:func:`body_forces_one`): the inverse dynamics
-    of the unconstrained equations, without forming M."""
-    forces, wheel = body_forces_one(model, q, q_dot, q_ddot, payload_mass)
-    return jnp.sum(forces, axis=0) + wheel
+    """M(q) q̈ + c(q, q̇) + g(q) for one state by the recursive Newton–Euler algorithm
+    (:func:`mobman.dynamics.recursive.inverse_dynamics`, Featherstone §5.3), plus the wheel spin: the inverse
+    dynamics of the unconstrained equations, without forming M.
+
+    The platform is the root body: with o its reference point and ω = θ̇ e_z, its spatial velocity at o is
+    (ω, ȯ) and its acceleration (ω̇, ö − ω × ȯ) (the derivative in the fixed frame at o), less the gravity
+    vector (Featherstone §5.3's fictitious base acceleration)."""
+    robot = model.robot
+    n_p = robot.n_platform
+    root, chains = _tree(model, q, payload_mass)
+    e_z = np.array([0.0, 0.0, 1.0])
+    zero = jnp.zeros_like(q[0])
+    velocity = jnp.stack([q_dot[0], q_dot[1], zero])
+    acceleration = jnp.stack([q_ddot[0] + q_dot[2] * q_dot[1], q_ddot[1] - q_dot[2] * q_dot[0], zero])
+    motion = [robot.motion_rates(x)[n_p:] for x in (q_dot, q_ddot)]
+    sizes = [arm.n_joints for arm in robot.arms]
+    q_p, tau = recursive.inverse_dynamics(
+        _platform_axes(np.eye(n_p)),
+        root,
+        recursive.Motion(q_dot[2] * e_z, velocity),
+        recursive.Motion(q_ddot[2] * e_z, acceleration - np.asarray(model.gravity)),
+        chains,
+        jnp.split(motion[0], np.cumsum(sizes)[:-1]),
+        jnp.split(motion[1], np.cumsum(sizes)[:-1]),
+    )
+    forces = jnp.concatenate([q_p, *(t @ arm.coupling_matrix for t, arm in zip(tau, robot.arms))])
+    return forces + _wheel_spin_force(model, q, q_dot, q_ddot)
 
 
 def potential_energy_one(
@@ -240,30 +366,29 @@ def potential_energy_one(
 
 
 def gravity_one(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None) -> jnp.ndarray:
-    """g(q) = ∂V/∂q (autodiff)."""
-    return jax.grad(partial(potential_energy_one, model, payload_mass=payload_mass))(q)
-
-
-def velocity_terms_one(
-    model: DynamicModel, q: jax.Array, q_dot: jax.Array, payload_mass: float | None = None
-) -> jnp.ndarray:
-    """c(q, q̇) = Ṁ q̇ − ∂/∂q (½ q̇ᵀ M(q) q̇) (Lagrange's equations).
-
-    Ṁ = (∂M/∂q) q̇ by one forward-mode jvp and the kinetic-energy gradient by reverse mode: directional
-    derivatives only, several times cheaper than forming the whole ∂M/∂q. Equal to Σ_jk Γ_ijk q̇_j q̇_k, the
-    Christoffel form of :func:`coriolis_matrix_one` (checked against it and against Pinocchio in the tests).
-    """
-    mass = partial(mass_matrix_one, model, payload_mass=payload_mass)
-    m_dot = jax.jvp(mass, (q,), (q_dot,))[1]
-    kinetic_gradient = jax.grad(lambda x: 0.5 * q_dot @ mass(x) @ q_dot)(q)
-    return m_dot @ q_dot - kinetic_gradient
+    """g(q): the Newton–Euler force of the robot at rest (equal to ∂V/∂q, tests)."""
+    zero = jnp.zeros_like(q)
+    return generalized_force_one(model, q, zero, zero, payload_mass)
 
 
 def bias_one(
     model: DynamicModel, q: jax.Array, q_dot: jax.Array, payload_mass: float | None = None
 ) -> jnp.ndarray:
-    """c(q, q̇) + g(q) for one configuration."""
-    return velocity_terms_one(model, q, q_dot, payload_mass) + gravity_one(model, q, payload_mass)
+    """c(q, q̇) + g(q) for one configuration: the Newton–Euler force at q̈ = 0."""
+    return generalized_force_one(model, q, q_dot, jnp.zeros_like(q), payload_mass)
+
+
+def lagrange_bias_one(
+    model: DynamicModel, q: jax.Array, q_dot: jax.Array, payload_mass: float | None = None
+) -> jnp.ndarray:
+    """c(q, q̇) + g(q) by Lagrange's equations from the definition of M and V, the reference
+    :func:`bias_one` is tested against: c = Ṁ q̇ − ∂/∂q (½ q̇ᵀ M(q) q̇) (Ṁ = (∂M/∂q) q̇ by one forward-mode
+    jvp, the kinetic-energy gradient by reverse mode), g = ∂V/∂q."""
+    mass = partial(mass_matrix_definition_one, model, payload_mass=payload_mass)
+    m_dot = jax.jvp(mass, (q,), (q_dot,))[1]
+    kinetic_gradient = jax.grad(lambda x: 0.5 * q_dot @ mass(x) @ q_dot)(q)
+    gravity = jax.grad(partial(potential_energy_one, model, payload_mass=payload_mass))(q)
+    return m_dot @ q_dot - kinetic_gradient + gravity
 
 
 def coriolis_matrix_one(model: DynamicModel, q: jax.Array, q_dot: jax.Array) -> jnp.ndarray:

@@ -40,8 +40,10 @@ def s_dot_eta(model: DynamicModel, q: jnp.ndarray, eta: jnp.ndarray) -> jnp.ndar
 def reduced_mass_matrix_one(
     model: DynamicModel, q: jax.Array, payload_mass: float | None = None
 ) -> jnp.ndarray:
-    s = model.robot.S(q)
-    return s.T @ eq.mass_matrix_one(model, q, payload_mass) @ s
+    """P = Sᵀ M S: the composite-rigid-body algorithm with the platform's motion subspace taken in the
+    quasi-velocities, S_p(q_p) (:func:`mobman.dynamics.equations.mass_matrix_one`)."""
+    platform = model.robot.platform
+    return eq.mass_matrix_one(model, q, payload_mass, platform_basis=platform.S(q[: platform.n_q]))
 
 
 def reduced_bias_one(
