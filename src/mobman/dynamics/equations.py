@@ -41,7 +41,7 @@ from mobman.engine.batched import batched
 from mobman.errors import InputError
 from mobman.model import spatial
 from mobman.model.inertial import Wheel
-from mobman.model.robot import Frames
+from mobman.model.robot import Frames, MobileManipulator
 
 
 class Body(NamedTuple):
