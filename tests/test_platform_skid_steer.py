@@ -277,3 +277,17 @@ def test_urdf_round_trip_keeps_xi_jbar_and_m(tmp_path):
     # the URDF lumps the wheels' mass and inertia about the vertical into the body: the same planar M
     m, m_back = dynamics.mass_matrix(model, q), dynamics.mass_matrix(dynamics.DynamicModel.from_urdf(back), q)
     np.testing.assert_allclose(m_back, m, atol=1e-12 * np.abs(m).max())
+
+
+def test_viewer_draws_the_four_wheels_at_the_axles(tmp_path):
+    from mobman.viz.viewer import Viewer
+
+    path = tmp_path / "skid.toml"
+    path.write_text(ROBOT_FILE)
+    robot = robot_file.load(path)
+    with Viewer(robot, port=0) as v:
+        wheels = sorted(n for n in v.nodes if n.startswith("/robot/platform/wheel"))
+        assert len(wheels) == 4
+        centres = sorted(tuple(np.asarray(v.nodes[n].vertices, dtype=float).mean(axis=0)[:2]) for n in wheels)
+        a, b = PLATFORM.wheelbase / 2, PLATFORM.half_track
+        np.testing.assert_allclose(centres, sorted((x, y) for x in (a, -a) for y in (b, -b)), atol=1e-6)
