@@ -152,7 +152,10 @@ def euler_angles(r: jnp.ndarray, sequence: str) -> jnp.ndarray:
     Supported sequences: ``ZYZ`` (θ in [0, π]), ``ZYX`` (yaw, pitch, roll; pitch in [−π/2, π/2]), ``XYZ``,
     ``ZXZ`` and ``ZXY`` (yaw, roll, pitch: the pitch about the frame's own y axis covers (−π, π]). The
     representation is singular where the middle angle is at the end of its range (gimbal lock, see
-    :func:`gimbal_margin`): operational coordinates are local variables (Bayle §2).
+    :func:`gimbal_margin`): operational coordinates are local variables (Bayle §2). The middle angle of ZYX,
+    XYZ and ZXY is atan2(s, c) with c = the margin ≥ 0, not arcsin(s): the same value, and a derivative that
+    stays accurate up to the gimbal lock (arcsin's 1/√(1 − s²) loses every digit once 1 − s² is near the
+    float64 epsilon, a margin of about 1e-8).
     """
     if sequence == "ZYZ":
         a1 = jnp.arctan2(r[..., 1, 2], r[..., 0, 2])
@@ -164,15 +167,15 @@ def euler_angles(r: jnp.ndarray, sequence: str) -> jnp.ndarray:
         a3 = jnp.arctan2(r[..., 2, 0], r[..., 2, 1])
     elif sequence == "ZYX":
         a1 = jnp.arctan2(r[..., 1, 0], r[..., 0, 0])
-        a2 = jnp.arcsin(jnp.clip(-r[..., 2, 0], -1.0, 1.0))
+        a2 = jnp.arctan2(-r[..., 2, 0], jnp.hypot(r[..., 0, 0], r[..., 1, 0]))
         a3 = jnp.arctan2(r[..., 2, 1], r[..., 2, 2])
     elif sequence == "XYZ":
         a1 = jnp.arctan2(-r[..., 1, 2], r[..., 2, 2])
-        a2 = jnp.arcsin(jnp.clip(r[..., 0, 2], -1.0, 1.0))
+        a2 = jnp.arctan2(r[..., 0, 2], jnp.hypot(r[..., 1, 2], r[..., 2, 2]))
         a3 = jnp.arctan2(-r[..., 0, 1], r[..., 0, 0])
     elif sequence == "ZXY":
         a1 = jnp.arctan2(-r[..., 0, 1], r[..., 1, 1])
-        a2 = jnp.arcsin(jnp.clip(r[..., 2, 1], -1.0, 1.0))
+        a2 = jnp.arctan2(r[..., 2, 1], jnp.hypot(r[..., 0, 1], r[..., 1, 1]))
         a3 = jnp.arctan2(-r[..., 2, 0], r[..., 2, 2])
     else:
         raise ModelError(f"unknown Euler sequence {sequence!r}; allowed: {', '.join(EULER_SEQUENCES)}")
