@@ -233,16 +233,19 @@ def point_grasp_matrix(n_arms: int) -> np.ndarray:
     return np.hstack([np.eye(2)] * n_arms)
 
 
-def _tool_points(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
-    return jnp.stack(
-        [kinematics.forward(robot, q, Position("xy", arm=i)) for i in range(len(robot.arms))], axis=-2
-    )
+def grasp_offsets_one(robot: MobileManipulator, q: jax.Array) -> jax.Array:
+    """r_i of one configuration q (n_q,), (k, 2): each tool point (x, y) minus their centroid, the object's
+    centre of mass; unvalidated, for traced code."""
+    frames = robot.frames(q)
+    points = jnp.stack([Position("xy", arm=i).value(robot, q, frames) for i in range(len(robot.arms))])
+    return points - jnp.mean(points, axis=0, keepdims=True)
 
 
 def grasp_offsets(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     """r_i: each tool point minus the object's centre of mass (the centroid of the tool points), (..., k, 2)."""
-    points = _tool_points(robot, q)
-    return points - jnp.mean(points, axis=-2, keepdims=True)
+    return jnp.vectorize(partial(grasp_offsets_one, robot), signature="(n)->(k,c)")(
+        kinematics.validated_q(robot, q)
+    )
 
 
 def _check_held(robot: MobileManipulator, grasp: str, q) -> None:
@@ -282,7 +285,7 @@ def _kinematic(robot: MobileManipulator, task: Task, held: str | None, q, u_max)
         if held == "point":
             w = jnp.asarray(point_grasp_matrix(len(robot.arms)))
         else:
-            w = grasp_matrix(grasp_offsets(robot, q))
+            w = grasp_matrix(grasp_offsets_one(robot, q))
         w_left = jnp.linalg.solve(w @ w.T, w)  # (W Wᵀ)⁻¹ W: v_o from rigid end-effector velocities
         internal = jnp.eye(w.shape[1]) - w.T @ w_left  # projector onto internal (non-rigid) velocities
         cj = internal @ jhat
@@ -345,7 +348,7 @@ class _Terms:
 def _dynamic_terms(
     model, task: Task, obj: HeldObject | None, grasp: str, wheels: bool, at_rest: bool, q, eta
 ):
-    from mobman import dynamics as dyn
+    from mobman.dynamics import equations, reduced
 
     robot = model.robot
     t = actuator_map(robot, wheels)
@@ -357,10 +360,10 @@ def _dynamic_terms(
         s = robot.S(q)
         j = jbar(q)
         if at_rest:  # η = 0: the reduced bias is Sᵀ g(q) and there is no velocity term
-            bias = s.T @ dyn.gravity_vector(model, q)
+            bias = s.T @ equations.gravity_one(model, q)
             drift = jnp.zeros(j.shape[0])
         else:
-            bias = dyn.reduced_bias(model, q, eta)
+            bias = reduced.reduced_bias_one(model, q, eta)
             drift = jax.jvp(jbar, (q,), (s @ eta,))[1] @ eta  # J̇ u = J̄̇ η
         if obj is None:
             m = j.shape[0]
@@ -370,14 +373,14 @@ def _dynamic_terms(
             m_o = obj.mass * jnp.eye(2)
             bias_o = obj.bias(jnp.zeros(3), gravity=model.gravity)[:2]
         else:
-            r = grasp_offsets(robot, q)
+            r = grasp_offsets_one(robot, q)
             w = grasp_matrix(r)
             v_o = jnp.linalg.solve(w @ w.T, w @ (j @ eta))
             drift = drift - grasp_matrix_rate(r, v_o[2]).T @ v_o
             m_o = jnp.asarray(obj.mass_matrix(planar=True))
             bias_o = obj.bias(v_o, gravity=model.gravity)
-        p = t.T @ dyn.reduced_mass_matrix(model, q) @ t
-        return p, t.T @ dyn.input_matrix(model, q), t.T @ bias, j @ t, drift, w, m_o, bias_o
+        p = t.T @ reduced.reduced_mass_matrix_one(model, q) @ t
+        return p, t.T @ reduced.input_matrix_one(model, q), t.T @ bias, j @ t, drift, w, m_o, bias_o
 
     return jnp.vectorize(one, signature="(n),(k)->(k,k),(k,k),(k),(r,k),(r),(m,r),(m,m),(m)")(q, eta)
 
