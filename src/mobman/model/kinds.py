@@ -7,6 +7,9 @@ new kind is one new module; the registry finds it by name and suggests the close
 from __future__ import annotations
 
 import difflib
+import importlib
+import pkgutil
+from collections.abc import Iterable
 from typing import Generic, TypeVar
 
 from mobman.errors import ModelError
@@ -47,4 +50,11 @@ class Kinds(Generic[T]):
         raise ModelError(f"{self.what} kind {kind!r} unknown; {hint}known: {', '.join(self.kinds())}")
 
 
-__all__ = ["Kinds"]
+def import_package(name: str, path: Iterable[str]) -> None:
+    """Import every module of the package ``name`` (its ``__path__``): each registers the kinds it defines, so
+    a new kind is one new module of the package."""
+    for module in pkgutil.iter_modules(path):
+        importlib.import_module(f"{name}.{module.name}")
+
+
+__all__ = ["Kinds", "import_package"]

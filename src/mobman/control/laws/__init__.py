@@ -8,17 +8,14 @@ with a :class:`Law` subclass that sets ``kind`` is found by :func:`law_class` (s
 by kind) without any other edit.
 """
 
-import importlib
-import pkgutil
-
 from mobman.control.laws.augmented import AugmentedJacobian, AugmentedStep
 from mobman.control.laws.base import Law, LawStep, apply_gain, damped_inverse, law_class, law_kinds
 from mobman.control.laws.bayle import BaylePseudoInverse
 from mobman.control.laws.nait_chabane import NaitChabane
 from mobman.control.laws.pseudo_inverse import PseudoInverseLaw, PseudoInverseStep
+from mobman.model.kinds import import_package
 
-for _module in pkgutil.iter_modules(__path__):
-    importlib.import_module(f"{__name__}.{_module.name}")
+import_package(__name__, __path__)
 
 __all__ = [
     "AugmentedJacobian",

@@ -3,9 +3,7 @@
 Importing this package imports every module in it, so a new platform module registers itself.
 """
 
-import importlib
-import pkgutil
-
+from mobman.model.kinds import import_package
 from mobman.model.platforms.base import Footprint, Platform, WheelSite, platform_class, platform_kinds
 from mobman.model.platforms.car import CarLike
 from mobman.model.platforms.differential import DifferentialDrive
@@ -13,8 +11,7 @@ from mobman.model.platforms.fixed import Fixed
 from mobman.model.platforms.omnidirectional import Omnidirectional
 from mobman.model.platforms.skid_steer import SkidSteer
 
-for _module in pkgutil.iter_modules(__path__):
-    importlib.import_module(f"{__name__}.{_module.name}")
+import_package(__name__, __path__)
 
 __all__ = [
     "CarLike",

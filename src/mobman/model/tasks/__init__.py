@@ -5,9 +5,7 @@ Every module of this package is imported here, so a new file with a :class:`Task
 is found by :func:`task_class` (robot and specification files name tasks by kind) without any other edit.
 """
 
-import importlib
-import pkgutil
-
+from mobman.model.kinds import import_package
 from mobman.model.tasks.base import REPRESENTATION_TOL, Task, task_class, task_kinds
 from mobman.model.tasks.elevation import Elevation
 from mobman.model.tasks.euler_angles import EulerAngles
@@ -19,8 +17,7 @@ from mobman.model.tasks.pose import Pose
 from mobman.model.tasks.position import Position
 from mobman.model.tasks.stack import Stack, stack
 
-for _module in pkgutil.iter_modules(__path__):
-    importlib.import_module(f"{__name__}.{_module.name}")
+import_package(__name__, __path__)
 
 __all__ = [
     "HEADING_SEQUENCES",
