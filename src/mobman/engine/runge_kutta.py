@@ -104,9 +104,34 @@ def step(
     has_aux: bool = False,
     inputs: Any = None,
 ) -> Any:
-    """:func:`mobman.integration.step` on this kernel."""
+    """:func:`mobman.integration.step` on this kernel. A step in a vector space without aux (the planners'
+    endpoint and variational systems, the dynamic simulation) runs its stages as a ``fori_loop`` that reads
+    row i of A in place and writes k_i into the slope buffer (:func:`_additive_step`)."""
+    if exp is None and not has_aux:
+        return _additive_step(tab, f, y, t, h, inputs)
     y_next, _, aux = step_path(tab, f, y, t, h, exp=exp, has_aux=has_aux, inputs=inputs)
     return (y_next, aux) if has_aux else y_next
+
+
+def _additive_step(tab: AnyTableau, f: Callable, y: Any, t: Any, h: Any, inputs: Any) -> Any:
+    """One explicit step y + h Σ b_j k_j, k_i = f(t + c_i h, y + h Σ_j a_ij k_j[, inputs[i]]), the stages in a
+    ``fori_loop``: f traced once, each stage's slope stored in place."""
+    c, A, b = coefficients(tab)
+    stages = len(c)
+    rows, nodes = jnp.asarray(A[0]), jnp.asarray(c)
+
+    def f_of(i, s, x):
+        return f(s, x) if inputs is None else f(s, x, jax.tree.map(lambda u: u[i], inputs))
+
+    shapes = jax.eval_shape(lambda x: f_of(0, t, x), y)
+    slopes = jax.tree.map(lambda a: jnp.zeros((stages,) + a.shape, a.dtype), shapes)
+
+    def stage(i, slopes):
+        k_i = f_of(i, t + nodes[i] * h, add(y, _combination(h, rows[i], slopes)))
+        return jax.tree.map(lambda buffer, k: buffer.at[i].set(k), slopes, k_i)
+
+    slopes = jax.lax.fori_loop(0, stages, stage, slopes)
+    return add(y, _combination(h, jnp.asarray(b[0]), slopes))
 
 
 __all__ = ["step", "step_path"]
