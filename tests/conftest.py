@@ -47,3 +47,24 @@ def robot_pixels():
     """PNG bytes → mask of the generated links' orange (255, 140, 26) under any shading: red well above blue,
     green in between (the axes' red, the paths' green and the ellipsoid's blue stay out)."""
     return _robot_pixels
+
+
+@pytest.fixture
+def cli_json(capsys):
+    """``cli_json(args)``: run ``mobman ARGS --json`` in-process, assert exit 0 (stderr as the message) and return
+    the printed JSON."""
+    import json
+
+    from mobman.cli import main
+
+    def run(args: list[str]) -> dict:
+        try:
+            main([*args, "--json"])
+            code = 0
+        except SystemExit as exc:
+            code = exc.code
+        captured = capsys.readouterr()
+        assert code == 0, captured.err
+        return json.loads(captured.out)
+
+    return run

@@ -4,7 +4,6 @@ file of kind "fixed"."""
 
 from __future__ import annotations
 
-import json
 import math
 from importlib import metadata
 
@@ -14,7 +13,6 @@ import pytest
 import sympy as sp
 
 from mobman import dynamics, kinematics, symbolic
-from mobman.cli import main
 from mobman.control.laws import BaylePseudoInverse
 from mobman.control.references import Line
 from mobman.control.simulation import simulate
@@ -103,24 +101,13 @@ def test_simulation_never_moves_the_base(tmp_path):
         assert np.abs(run.error).max() < (2e-2 if integrator == "hold" else 1e-4)
 
 
-def _run(args, capsys) -> dict:
-    try:
-        main([*args, "--json"])
-        code = 0
-    except SystemExit as exc:
-        code = exc.code
-    captured = capsys.readouterr()
-    assert code == 0, captured.err
-    return json.loads(captured.out)
-
-
-def test_every_command_runs_on_a_fixed_base_robot_file(tmp_path, capsys):
+def test_every_command_runs_on_a_fixed_base_robot_file(tmp_path, cli_json):
     path = tmp_path / "fixed.toml"
     path.write_text(ROBOT_FILE)
     q = np.array([0.0, 0.0, math.pi, 0.3, 1.2, 0.4])
-    report = _run(["analyze", str(path), "--q", "0,0,pi,0.3,1.2,0.4"], capsys)
+    report = cli_json(["analyze", str(path), "--q", "0,0,pi,0.3,1.2,0.4"])
     assert report["redundancy"]["delta"] == 3 and report["redundancy"]["R_bar"] == 0
-    report = _run(["ellipsoid", str(path), "--q", "0,0,pi,0.3,1.2,0.4"], capsys)
+    report = cli_json(["ellipsoid", str(path), "--q", "0,0,pi,0.3,1.2,0.4"])
     expected = np.linalg.svd(_tool_jacobian(q) * 1.5, compute_uv=False)
     np.testing.assert_allclose(report["axes"], expected, rtol=1e-10)
     start = _tool(np.array([0.0, 0.0, 0.0, 0.3, 0.5, 0.4])).tolist()
@@ -130,8 +117,8 @@ def test_every_command_runs_on_a_fixed_base_robot_file(tmp_path, capsys):
         '[{p}law]\nkind = "bayle"\n[{p}gains]\nW = 1.0\nk = 1.0\n'
     )
     (tmp_path / "spec.toml").write_text(control.format(p="") + f'[robot]\nfile = "{path}"\n')
-    assert _run(["simulate", str(tmp_path / "spec.toml")], capsys)["max_error"] < 1e-3
-    plan = _run(["plan", str(path), "--target", "0.5,0.3,0.6", "--x", "0.3,0.5,0.4"], capsys)
+    assert cli_json(["simulate", str(tmp_path / "spec.toml")])["max_error"] < 1e-3
+    plan = cli_json(["plan", str(path), "--target", "0.5,0.3,0.6", "--x", "0.3,0.5,0.4"])
     assert plan["converged"] and np.allclose(
         _tool(np.array([0, 0, 0, *plan["x"]])), [0.5, 0.3, 0.6], atol=1e-9
     )
@@ -145,7 +132,7 @@ def test_every_command_runs_on_a_fixed_base_robot_file(tmp_path, capsys):
         + '[actuators.q2]\nkind = "torque_box"\nlower = -80.0\nupper = 80.0\n'
     )
     (tmp_path / "load.toml").write_text(load)
-    result = _run(["load-capacity", str(tmp_path / "load.toml")], capsys)
+    result = cli_json(["load-capacity", str(tmp_path / "load.toml")])
     assert (
         result["bounded"] and result["max_load_kg"] > 0 and set(result["per_actuator"]) == {"q1", "q2", "q3"}
     )

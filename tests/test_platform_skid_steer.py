@@ -3,7 +3,6 @@ it reduces to at x_icr = 0, χ = 1, and every command run on a robot file of kin
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
@@ -14,7 +13,6 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from mobman import ModelError, dynamics, kinematics, symbolic
-from mobman.cli import main
 from mobman.dynamics.ellipsoids import dynamic_ellipsoid
 from mobman.errors import InputError
 from mobman.io import robot_file
@@ -192,18 +190,7 @@ def test_bad_parameters_are_one_line_errors(tmp_path, key, value, message):
         robot_file.load(tmp_path / "bad.toml")
 
 
-def _run(args, capsys) -> dict:
-    try:
-        main([*args, "--json"])
-        code = 0
-    except SystemExit as exc:
-        code = exc.code
-    captured = capsys.readouterr()
-    assert code == 0, captured.err
-    return json.loads(captured.out)
-
-
-def test_every_command_runs_on_a_skid_steer_robot_file(tmp_path, capsys):
+def test_every_command_runs_on_a_skid_steer_robot_file(tmp_path, cli_json):
     path = tmp_path / "skid.toml"
     path.write_text(ROBOT_FILE)
     robot = robot_file.load(path)
@@ -211,11 +198,11 @@ def test_every_command_runs_on_a_skid_steer_robot_file(tmp_path, capsys):
     q = np.array([0.2, -0.1, math.pi / 2, 0.3, 1.2])
     q_text = "0.2,-0.1,pi/2,0.3,1.2"
 
-    report = _run(["analyze", str(path), "--q", q_text], capsys)
+    report = cli_json(["analyze", str(path), "--q", q_text])
     assert report["redundancy"] == {"M": 5, "delta": 4, "D": 2, "R": 3, "D_bar": 2, "R_bar": 2}
 
     # kinematic ellipsoid in wheel-side speeds: the image of |ū| ≤ 1 under J̄ T diag(u_max)
-    report = _run(["ellipsoid", str(path), "--q", q_text], capsys)
+    report = cli_json(["ellipsoid", str(path), "--q", q_text])
     t = np.eye(4)
     t[:2, :2] = [[R / 2, R / 2], [R / (2 * CHI * B), -R / (2 * CHI * B)]]
     j_hat = np.asarray(kinematics.reduced_jacobian(robot, q)) @ t @ np.diag([SPEED, SPEED, 1.5, 1.5])
@@ -231,10 +218,10 @@ def test_every_command_runs_on_a_skid_steer_robot_file(tmp_path, capsys):
         '[law]\nkind = "bayle"\n[criterion]\nkind = "manipulability"\nmeasure = "eccentricity"\n'
         "[gains]\nW = 1.0\nk = 1.0\n"
     )
-    summary = _run(["simulate", str(spec)], capsys)
+    summary = cli_json(["simulate", str(spec)])
     assert summary["max_error"] < 1e-2
 
-    plan = _run(["plan", str(path), "--target", "1.5,0.5", "--harmonics", "1"], capsys)
+    plan = cli_json(["plan", str(path), "--target", "1.5,0.5", "--harmonics", "1"])
     assert plan["converged"] and plan["final_error"] < 1e-10
 
     links = "".join(
@@ -252,7 +239,7 @@ def test_every_command_runs_on_a_skid_steer_robot_file(tmp_path, capsys):
         '[actuators.wheels_right]\nkind = "torque_box"\nlower = -40.0\nupper = 40.0\n'
         '[actuators.q1]\nkind = "torque_box"\nlower = -60.0\nupper = 60.0\n'
     )
-    result = _run(["load-capacity", str(load)], capsys)
+    result = cli_json(["load-capacity", str(load)])
     assert result["bounded"] and result["max_load_kg"] > 0
     assert set(result["per_actuator"]) == {"wheels_right", "wheels_left", "q1", "q2"}
 
