@@ -226,6 +226,20 @@ def planar_exp(q_p: jnp.ndarray, vx: jnp.ndarray, vy: jnp.ndarray, dth: jnp.ndar
     return jnp.concatenate([pose, q_p[3:]])
 
 
+def check_wheel_limits(
+    owner: str, v_max: float | None, omega_max: float | None, wheel_speed_max: float | None
+) -> None:
+    """The velocity limits of a platform with a driven wheel pair: positive, and either (v_max, omega_max)
+    together or wheel_speed_max (ModelError naming ``owner`` otherwise)."""
+    for name, value in (("v_max", v_max), ("omega_max", omega_max), ("wheel_speed_max", wheel_speed_max)):
+        if value is not None:
+            checks.positive(value, name, owner)
+    if wheel_speed_max is not None and (v_max is not None or omega_max is not None):
+        raise ModelError(f"{owner}: give either (v_max, omega_max) or wheel_speed_max, not both")
+    if (v_max is None) != (omega_max is None):
+        raise ModelError(f"{owner}: v_max and omega_max must be given together")
+
+
 def limits(values: Sequence[float] | None, n: int, name: str, owner: str) -> tuple[float, ...] | None:
     """``values`` as n positive floats (None stays None)."""
     if values is None:

@@ -10,8 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman import checks
-from mobman.errors import ModelError
-from mobman.model.platforms.base import Footprint, Platform, WheelSite
+from mobman.model.platforms.base import Footprint, Platform, WheelSite, check_wheel_limits
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -50,14 +49,7 @@ class DifferentialDrive(Platform):
     def __post_init__(self) -> None:
         checks.positive(self.wheel_radius, "wheel_radius", "DifferentialDrive")
         checks.positive(self.half_track, "half_track", "DifferentialDrive")
-        for name in ("v_max", "omega_max", "wheel_speed_max"):
-            value = getattr(self, name)
-            if value is not None:
-                checks.positive(value, name, "DifferentialDrive")
-        if self.wheel_speed_max is not None and (self.v_max is not None or self.omega_max is not None):
-            raise ModelError("DifferentialDrive: give either (v_max, omega_max) or wheel_speed_max, not both")
-        if (self.v_max is None) != (self.omega_max is None):
-            raise ModelError("DifferentialDrive: v_max and omega_max must be given together")
+        check_wheel_limits("DifferentialDrive", self.v_max, self.omega_max, self.wheel_speed_max)
 
     @property
     def velocity_limits(self) -> tuple[float, ...] | None:

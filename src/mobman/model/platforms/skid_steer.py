@@ -19,7 +19,7 @@ import numpy as np
 
 from mobman import checks
 from mobman.errors import ModelError
-from mobman.model.platforms.base import Footprint, Platform, WheelSite
+from mobman.model.platforms.base import Footprint, Platform, WheelSite, check_wheel_limits
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -85,13 +85,7 @@ class SkidSteer(Platform):
             raise ModelError(
                 f"SkidSteer: track_factor must be a finite number ≥ 1, got {self.track_factor!r}"
             )
-        for name in ("v_max", "omega_max", "wheel_speed_max"):
-            if getattr(self, name) is not None:
-                checks.positive(getattr(self, name), name, "SkidSteer")
-        if self.wheel_speed_max is not None and (self.v_max is not None or self.omega_max is not None):
-            raise ModelError("SkidSteer: give either (v_max, omega_max) or wheel_speed_max, not both")
-        if (self.v_max is None) != (self.omega_max is None):
-            raise ModelError("SkidSteer: v_max and omega_max must be given together")
+        check_wheel_limits("SkidSteer", self.v_max, self.omega_max, self.wheel_speed_max)
 
     @property
     def effective_half_track(self) -> float:
