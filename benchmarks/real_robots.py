@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from functools import partial
 
 import jax
 import numpy as np
@@ -26,12 +27,12 @@ import numpy as np
 import mobman  # noqa: F401  (float64)
 from mobman import dynamics as dyn
 from mobman import manipulability as mp
-from mobman.dynamics.reduced import reduced_terms
+from mobman.dynamics.reduced import reduced_terms, reduced_terms_one
 from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.model.tasks import EulerAngles, Position, stack
 from mobman.redundancy import sample_configurations
 
-from timing import best_time
+from timing import best_time, describe_structure, program_structure
 
 AGREEMENT = 1e-9
 """Largest relative difference from Pinocchio the benchmark accepts (it exits with an error above)."""
@@ -166,6 +167,11 @@ def main(argv=None) -> int:
     ]
     for name, t, ratio in rows:
         print(f"{name:58s} {1e6 * t:10.3f} {ratio:19.2f}")
+    options = mp._prepare(robot, "system", None, None)
+    one_kinematics = jax.jit(lambda x: mp.jacobian_and_measures.one(robot, x, "system", *options))
+    print(describe_structure("J̄ + measures, one configuration", program_structure(one_kinematics, q[0])))
+    one_dynamics = partial(reduced_terms_one, model)
+    print(describe_structure("P, b, B, one configuration", program_structure(one_dynamics, q[0], eta[0])))
     print(
         f"max |J̄ position rows − Pinocchio| = {err_j:.1e}, max |Sᵀ M S − Pinocchio| / max |M| = {err_p:.1e}"
     )

@@ -6,8 +6,12 @@ the compiler's output, which change with the JAX version, so they are printed he
 - :func:`xla_flops`: the floating-point operations XLA's own cost analysis counts for a compiled program
   (``jax.jit(f).lower(*args).compile().cost_analysis()["flops"]``; a loop's body is counted once), which
   :func:`roofline` sets against the machine's peak;
-- :func:`program_structure`: the kernels of a compiled program (fusions, library calls, products) and the
-  operations that cost XLA's CPU runtime most in small programs (gathers, constant arrays, LAPACK calls).
+- :func:`program_structure`: the kernels of a compiled program (fusions, library calls, products), the
+  operations that cost XLA's CPU runtime most in small programs (gathers, constant arrays, LAPACK calls) and
+  its largest array: XLA's CPU runtime runs a program's kernels one after the other on the calling thread
+  only when every array they touch is at most 512 bytes (or there are at most 8 kernels); otherwise it
+  schedules them over a thread pool, which costs a one-configuration program of tiny kernels several times
+  their work.
 """
 
 from __future__ import annotations
@@ -58,7 +62,31 @@ def program_structure(fn: Callable, *args) -> dict[str, int]:
         "constant arrays": len([c for c in re.findall(r"= \w+\[([\d,]*)\]\S* constant\(", entry) if c]),
         "solver calls": len(re.findall(r'custom_call_target="(?:lapack|cusolver|hipsolver)', full)),
         "YNN fusions": full.count("__ynn_fusion"),
+        "largest array (bytes)": max(_array_bytes(entry), default=0),
     }
+
+
+_BYTES = {
+    "f64": 8,
+    "s64": 8,
+    "u64": 8,
+    "c64": 8,
+    "f32": 4,
+    "s32": 4,
+    "u32": 4,
+    "f16": 2,
+    "pred": 1,
+    "s8": 1,
+    "u8": 1,
+}
+
+
+def _array_bytes(entry: str) -> list[int]:
+    """Sizes of the arrays the entry computation's instructions produce (tuple elements included)."""
+    return [
+        _BYTES.get(dtype, 8) * math.prod(int(d) for d in dims.split(",") if d)
+        for dtype, dims in re.findall(r"\b(f64|s64|u64|c64|f32|s32|u32|f16|pred|s8|u8)\[([\d,]*)\]", entry)
+    ]
 
 
 def describe_structure(label: str, counts: dict[str, int]) -> str:

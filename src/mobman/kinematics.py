@@ -48,7 +48,7 @@ def jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.nd
 
 def reduced_jacobian_one(robot: MobileManipulator, task: Task, q: jnp.ndarray) -> jnp.ndarray:
     """J̄ = J S (m × δ) of one configuration ``q`` (n_q,), unvalidated: for traced code (Bayle §4.2)."""
-    return robot.apply_S(jacobian_one(robot, task, q), q)
+    return task.reduced_jacobian(robot, q, robot.frames(q))
 
 
 # --- public batched API ----------------------------------------------------------------------------

@@ -14,6 +14,14 @@ compiled loop (a ``fori_loop`` that reads each block in place and writes it into
 block's intermediates stay in the L1/L2 cache. On accelerators, where one wide kernel over the whole batch is
 what the hardware wants, and for batches of at most one block, it is plain ``vmap``.
 
+**One configuration.** A program for one configuration is a few dozen tiny kernels. XLA's CPU runtime runs
+them one after the other on the calling thread only when every array they touch is at most 512 bytes (or
+there are at most 8 kernels); otherwise it schedules them over a thread pool, at a cost of about a
+microsecond per kernel, several times their work. So the per-configuration definitions avoid forming a larger
+array than their result needs where the mathematics allows it (a stacked task's J̄ is formed part by part,
+:meth:`mobman.model.tasks.Stack.reduced_jacobian`); ``benchmarks/real_robots.py`` prints the largest array of
+the one-configuration programs.
+
 **Cores.** A compiled XLA program runs on one CPU core. :func:`across_cores` splits a large batch into one
 equal share per core, runs the compiled function on the shares from a thread pool (XLA releases the GIL while
 it computes) and joins the results. Traced calls (inside ``jit``, ``grad``, ``vmap``), accelerators and

@@ -54,7 +54,7 @@ class PseudoInverseLaw(Law):
         frames = robot.frames(q)
         xi = task.value(robot, q, frames)
         scale = self.scale(robot)
-        jt = robot.apply_S(task.jacobian(robot, q, frames), q) * scale
+        jt = task.reduced_jacobian(robot, q, frames) * scale
         e = task.error(xi_star, xi)
         inverse, lam2, sigma_min = damped_inverse(jt, self.damping, self.damping_threshold)
         eta = matvec(inverse, xi_star_dot + self.feedback_term(e))

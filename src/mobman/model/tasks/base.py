@@ -99,6 +99,10 @@ class Task:
     def jacobian(self, robot: MobileManipulator, q: jnp.ndarray, frames: Frames) -> jnp.ndarray:
         return jax.jacfwd(lambda qq: self.value(robot, qq, robot.frames(qq)))(q)
 
+    def reduced_jacobian(self, robot: MobileManipulator, q: jnp.ndarray, frames: Frames) -> jnp.ndarray:
+        """J̄ = J S (m × n_eta), the Jacobian in the quasi-velocities (Bayle §4.2, eq. 2)."""
+        return robot.apply_S(self.jacobian(robot, q, frames), q)
+
     def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         """ξ = f(q) as SymPy expressions of ``kin.q`` (unsimplified), from the symbolic frames of ``kin``
         (:class:`mobman.symbolic.SymbolicRobot`). Tasks without a closed form raise ModelError."""

@@ -53,6 +53,12 @@ class Stack(Task):
     def jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         return jnp.concatenate([t.jacobian(robot, q, frames) for t in self.tasks], axis=0)
 
+    def reduced_jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
+        """The parts' J̄ stacked: J S row block by row block, the same numbers as J S. The m × n_q matrix J
+        is never formed: for one configuration every array of the compiled program then stays small, and
+        XLA's CPU runtime runs its kernels on the calling thread (:mod:`mobman.engine.batched`)."""
+        return jnp.concatenate([t.reduced_jacobian(robot, q, frames) for t in self.tasks], axis=0)
+
     def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         return [e for t in self.tasks for e in t.symbolic(kin)]
 
