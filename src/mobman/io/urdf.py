@@ -74,14 +74,8 @@ from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.inertial import PlatformBody, Wheel
-from mobman.model.platforms import (
-    CarLike,
-    DifferentialDrive,
-    Platform,
-    SkidSteer,
-    platform_class,
-    platform_kinds,
-)
+from mobman.model.platforms import Platform, platform_class, platform_kinds
+from mobman.model.platforms.urdf_form import UrdfPlatform, UrdfWheel, distance
 from mobman.model.robot import MobileManipulator, actuator_names
 from mobman.model.visual import Visual
 
@@ -419,52 +413,81 @@ def _geometry_radius(link, axle_local: np.ndarray, directory: str) -> float | No
     return None
 
 
-def _wheel_geometry(joint, poses, inv) -> tuple[np.ndarray, np.ndarray]:
-    """Centre and axle of a wheel joint in the base frame (the joint frame after its motion is the wheel
-    link's frame; its pose at the reference configuration)."""
-    t = inv @ poses[joint.child]
-    return t[:3, 3], t[:3, :3] @ _axis(joint)
+class _PlatformReader:
+    """The view of the URDF file that a platform's ``from_urdf`` reads (:class:`mobman.model.platforms.urdf_form.
+    UrdfReader`): wheel-joint candidates are the continuous joints off the chains hanging from the platform."""
 
+    def __init__(
+        self, tree, passive, groups, poses, base_pose, directory: str, wheels, radius, half_track, options
+    ):
+        self.tree, self.poses, self.directory = tree, poses, directory
+        self.inv = np.linalg.inv(base_pose)
+        self.candidates = [j for j in passive if j.type == "continuous" and groups[j.parent] is None]
+        self.on_platform = [j for j in passive if groups[j.parent] is None]
+        self.wheels, self.radius, self.track, self.options = wheels, radius, half_track, options
 
-def _common_axle(a, b, poses, inv) -> bool:
-    (pa, axa), (pb, axb) = _wheel_geometry(a, poses, inv), _wheel_geometry(b, poses, inv)
-    d = pb - pa
-    separation = np.linalg.norm(d)
-    return bool(
-        separation > _AXLE_TOL
-        and abs(abs(axa @ axb) - 1.0) < _AXLE_TOL
-        and abs(abs(d @ axa) / separation - 1.0) < _AXLE_TOL
-        and abs(axa[2]) < _AXLE_TOL
-    )
+    def _centre_axis(self, joint) -> tuple[np.ndarray, np.ndarray]:
+        """Centre and axle of a wheel joint in the base frame (the joint frame after its motion is the wheel
+        link's frame; its pose at the reference configuration)."""
+        t = self.inv @ self.poses[joint.child]
+        return t[:3, 3], t[:3, :3] @ _axis(joint)
 
+    def _common_axle(self, a, b) -> bool:
+        (pa, axa), (pb, axb) = self._centre_axis(a), self._centre_axis(b)
+        d = pb - pa
+        separation = np.linalg.norm(d)
+        return bool(
+            separation > _AXLE_TOL
+            and abs(abs(axa @ axb) - 1.0) < _AXLE_TOL
+            and abs(abs(d @ axa) / separation - 1.0) < _AXLE_TOL
+            and abs(axa[2]) < _AXLE_TOL
+        )
 
-def _wheel_pair(tree, candidates, wheels, poses, base_pose):
-    """The (right, left) wheel joints with their axle data, or ModelError listing the continuous joints."""
-    inv = np.linalg.inv(base_pose)
+    def _wheel(self, joint) -> UrdfWheel:
+        x, y, z = (float(v) for v in self._centre_axis(joint)[0])
+        return UrdfWheel(joint.name, x, y, z)
 
-    def geometry(j):
-        return _wheel_geometry(j, poses, inv)
+    def _sides(self, a, b) -> tuple[UrdfWheel, UrdfWheel]:
+        """(right, left) of an axle, ModelError unless it is along the base's y axis."""
+        (pa, axis), (pb, _) = self._centre_axis(a), self._centre_axis(b)
+        right, left = (a, b) if pa[1] < pb[1] else (b, a)
+        if abs(abs(axis[1]) - 1.0) > _AXLE_TOL:
+            raise ModelError(
+                f"URDF: the axle of {right.name!r} and {left.name!r} is not along the y axis of the base link "
+                "(the platform's heading is the base's x axis)"
+            )
+        return self._wheel(right), self._wheel(left)
 
-    def common_axle(a, b) -> bool:
-        return _common_axle(a, b, poses, inv)
+    def _pairs(self) -> list[tuple]:
+        c = self.candidates
+        return [(a, b) for k, a in enumerate(c) for b in c[k + 1 :] if self._common_axle(a, b)]
 
-    if wheels is not None:
-        pair = []
-        for name in wheels:
-            if name not in tree.joints:
-                raise ModelError(f"wheels: no joint named {name!r} in the URDF")
-            if tree.joints[name].type not in ("continuous", "revolute"):
-                raise ModelError(f"wheels: joint {name!r} is {tree.joints[name].type}, not continuous")
-            pair.append(tree.joints[name])
-        if not common_axle(*pair):
-            raise ModelError(f"wheels: joints {wheels[0]!r} and {wheels[1]!r} have no common horizontal axle")
-        pairs = [tuple(pair)]
-    else:
-        pairs = [(a, b) for k, a in enumerate(candidates) for b in candidates[k + 1 :] if common_axle(a, b)]
-        driven = [p for p in pairs if all(j.limit is not None for j in p)]
-        pairs = driven or pairs
+    def continuous_joints(self) -> tuple[str, ...]:
+        return tuple(j.name for j in self.candidates)
+
+    def axles(self) -> list[tuple[UrdfWheel, UrdfWheel]]:
+        return [self._sides(a, b) for a, b in self._pairs()]
+
+    def wheel_pair(self) -> tuple[UrdfWheel, UrdfWheel]:
+        if self.wheels is not None:
+            pair = []
+            for name in self.wheels:
+                if name not in self.tree.joints:
+                    raise ModelError(f"wheels: no joint named {name!r} in the URDF")
+                if self.tree.joints[name].type not in ("continuous", "revolute"):
+                    raise ModelError(
+                        f"wheels: joint {name!r} is {self.tree.joints[name].type}, not continuous"
+                    )
+                pair.append(self.tree.joints[name])
+            if not self._common_axle(*pair):
+                raise ModelError(
+                    f"wheels: joints {self.wheels[0]!r} and {self.wheels[1]!r} have no common horizontal axle"
+                )
+            return self._sides(*pair)
+        pairs = self._pairs()
+        pairs = [p for p in pairs if all(j.limit is not None for j in p)] or pairs  # driven wheels first
         if not pairs:
-            seen = ", ".join(j.name for j in candidates) or "none"
+            seen = ", ".join(self.continuous_joints()) or "none"
             raise ModelError(
                 "URDF: no pair of wheel joints with a common horizontal axle (two continuous joints off the arm "
                 f"chains); continuous joints seen: {seen}; name them with wheels=(right, left) or choose "
@@ -475,43 +498,46 @@ def _wheel_pair(tree, candidates, wheels, poses, base_pose):
             raise ModelError(
                 f"URDF: several wheel pairs qualify: {listed}; name one with wheels=(right, left)"
             )
-    a, b = pairs[0]
-    (pa, axis), (pb, _) = geometry(a), geometry(b)
-    right, left = (a, b) if pa[1] < pb[1] else (b, a)
-    if abs(abs(axis[1]) - 1.0) > _AXLE_TOL:
-        raise ModelError(
-            f"URDF: the axle of {right.name!r} and {left.name!r} is not along the y axis of the base link "
-            "(the platform's heading is the base's x axis)"
-        )
-    return right, left, pa, pb
+        return self._sides(*pairs[0])
 
+    def steering_joints(self) -> list[UrdfWheel]:
+        wheels = set(self.wheels or ()) | {
+            name for pair in self._pairs() for name in (pair[0].name, pair[1].name)
+        }
+        out = []
+        for j in self.on_platform:
+            if j.type == "revolute" and j.name not in wheels:
+                if abs(abs(self._centre_axis(j)[1][2]) - 1.0) < 1e-9:
+                    out.append(self._wheel(j))
+        return out
 
-def _skid_wheels(tree, candidates, poses, base_pose):
-    """The four wheel joints of a skid-steer (front right, rear right, front left, rear left), two axles of
-    continuous joints off the chains along the base's y axis, with their centres in the base frame."""
-    inv = np.linalg.inv(base_pose)
-    pairs = [
-        (a, b)
-        for k, a in enumerate(candidates)
-        for b in candidates[k + 1 :]
-        if _common_axle(a, b, poses, inv)
-    ]
-    used = [j.name for pair in pairs for j in pair]
-    if len(pairs) != 2 or len(set(used)) != 4:
-        seen = ", ".join(j.name for j in candidates) or "none"
-        raise ModelError(
-            "platform='skid_steer': needs four wheel joints on two axles (continuous joints off the arm chains); "
-            f"continuous joints seen: {seen}"
-        )
-    wheels = {j.name: (j, _wheel_geometry(j, poses, inv)[0]) for pair in pairs for j in pair}
-    for joint, _ in wheels.values():
-        if abs(abs(_wheel_geometry(joint, poses, inv)[1][1]) - 1.0) > _AXLE_TOL:
+    def wheel_radius(self, wheel: UrdfWheel) -> float:
+        if self.radius is not None:
+            return float(self.radius)
+        joint = self.tree.joints[wheel.name]
+        r = _geometry_radius(self.tree.links[joint.child], _axis(joint), self.directory)
+        if r is None:
             raise ModelError(
-                f"platform='skid_steer': the axle of {joint.name!r} is not along the base's y axis"
+                f"URDF link {joint.child!r}: no cylinder, sphere or mesh gives the wheel radius; pass wheel_radius="
             )
-    centre = np.mean([p for _, p in wheels.values()], axis=0)
-    ordered = sorted(wheels.values(), key=lambda jp: (jp[1][1] > centre[1], jp[1][0] < centre[0]))
-    return [j for j, _ in ordered], [p for _, p in ordered], centre
+        return r
+
+    def half_track(self, measured: float) -> float:
+        return float(measured) if self.track is None else float(self.track)
+
+    def wheel_speed(self, wheels: Sequence[UrdfWheel]) -> float | None:
+        joints = [self.tree.joints[w.name] for w in wheels]
+        speeds = [j.limit.velocity for j in joints if j.limit is not None and _limit(j.limit.velocity)]
+        return min(speeds) if len(speeds) == len(joints) else None
+
+    def build(self, cls, **values):
+        allowed = [f.name for f in fields(cls) if f.init]
+        for key in self.options:
+            if key not in allowed:
+                raise ModelError(
+                    f"platform_options: {key!r} is not a parameter of {cls.__name__} (allowed: {', '.join(allowed)})"
+                )
+        return cls(**{**{k: v for k, v in values.items() if k in allowed}, **self.options})
 
 
 def _spin_inertia(tree, joint, poses) -> float:
@@ -600,42 +626,14 @@ def read_urdf(
     directory = str(file.parent)
 
     # platform
-    summary_extra: dict = {}
-    continuous = [j for j in passive if j.type == "continuous" and groups[j.parent] is None]
-    offset = np.zeros(3)
-    wheel_joints: list = []
-    platform_model: Platform
-    if platform in ("auto", "differential", "car"):
-        right, left, p_r, p_l = _wheel_pair(tree, continuous, wheels, poses, base_pose)
-        wheel_joints = [right, left]
-        midpoint = 0.5 * (p_r + p_l)
-        offset = np.array([midpoint[0], midpoint[1], 0.0])
-        b = float(np.linalg.norm(p_l - p_r) / 2) if half_track is None else float(half_track)
-        r = _wheel_radius(tree, right, wheel_radius, directory)
-        speed = _wheel_speed(wheel_joints)
-        if platform == "car":
-            platform_model = _car(tree, passive, groups, poses, base_pose, offset, (right, left))
-        else:
-            platform_model = _build(
-                DifferentialDrive, options, wheel_radius=r, half_track=b, wheel_speed_max=speed
-            )
-        summary_extra = _wheel_summary(platform_model, (right, left), r, b, offset, speed)
-    elif platform == "skid_steer":
-        wheel_joints, centres, centre = _skid_wheels(tree, continuous, poses, base_pose)
-        offset = np.array([centre[0], centre[1], 0.0])
-        b = float(abs(centres[2][1] - centres[0][1]) / 2) if half_track is None else float(half_track)
-        r = _wheel_radius(tree, wheel_joints[0], wheel_radius, directory)
-        speed = _wheel_speed(wheel_joints)
-        wheelbase = float(abs(centres[0][0] - centres[1][0]))
-        platform_model = _build(
-            SkidSteer, options, wheel_radius=r, half_track=b, wheelbase=wheelbase, wheel_speed_max=speed
-        )
-        summary_extra = _wheel_summary(
-            platform_model, (wheel_joints[0], wheel_joints[2]), r, b, offset, speed
-        )
-    else:  # omnidirectional, fixed, any other kind: q_p at the base frame
-        platform_model = _build(platform_class(platform), options)
-        summary_extra = dict(platform_limits=f"platform velocity limits: none ({platform}, not in URDF)")
+    reader = _PlatformReader(
+        tree, passive, groups, poses, base_pose, directory, wheels, wheel_radius, half_track, options
+    )
+    reading = platform_class("differential" if platform == "auto" else platform).from_urdf(reader)
+    platform_model = reading.platform
+    wheel_joints = [tree.joints[n] for n in reading.wheel_joints]
+    offset = np.array([*reading.reference, 0.0])
+    summary_extra = _platform_summary(reading, reader)
     wheel_pair = tuple(wheel_joints) or None
     platform_pose = base_pose @ spatial.as_matrix(spatial.transform(None, tuple(offset)))
 
@@ -711,35 +709,17 @@ def read_urdf(
     return UrdfModel(robot, summary, body, wheel, tuple(efforts))
 
 
-def _wheel_radius(tree, joint, given: float | None, directory: str) -> float:
-    if given is not None:
-        return float(given)
-    r = _geometry_radius(tree.links[joint.child], _axis(joint), directory)
-    if r is None:
-        raise ModelError(
-            f"URDF link {joint.child!r}: no cylinder, sphere or mesh gives the wheel radius; pass wheel_radius="
-        )
-    return r
-
-
-def _wheel_speed(joints) -> float | None:
-    """The smallest velocity limit of the wheel joints, None unless every one gives one."""
-    speeds = [j.limit.velocity for j in joints if j.limit is not None and _limit(j.limit.velocity)]
-    return min(speeds) if len(speeds) == len(joints) else None
-
-
-def _build(cls, options: Mapping[str, float], **read):
-    """The platform from the values read, ``platform_options`` added (ModelError naming a wrong key)."""
-    allowed = [f.name for f in fields(cls) if f.init]
-    for key in options:
-        if key not in allowed:
-            raise ModelError(
-                f"platform_options: {key!r} is not a parameter of {cls.__name__} (allowed: {', '.join(allowed)})"
-            )
-    return cls(**{**{k: v for k, v in read.items() if k in allowed}, **options})
-
-
-def _wheel_summary(platform: Platform, sides, r: float, b: float, offset, speed: float | None) -> dict:
+def _platform_summary(reading: UrdfPlatform, reader: _PlatformReader) -> dict:
+    """The summary's lines on the platform: its wheels (the (right, left) pair the platform names), the
+    reference point and how its velocity limits were obtained."""
+    platform = reading.platform
+    if reading.sides is None:
+        return dict(platform_limits=f"platform velocity limits: none ({platform.kind}, not in URDF)")
+    right, left = (reader._wheel(reader.tree.joints[n]) for n in reading.sides)
+    r, b = reader.wheel_radius(right), reader.half_track(distance(right, left) / 2)
+    speed = reader.wheel_speed(
+        [reader._wheel(j) for j in (reader.tree.joints[n] for n in reading.wheel_joints)]
+    )
     if speed is None:
         limits_text = "platform velocity limits: none (the wheel joints give no velocity limit)"
     else:
@@ -750,10 +730,10 @@ def _wheel_summary(platform: Platform, sides, r: float, b: float, offset, speed:
             f"v_max = {v:.6g} m/s, ω_max = {w:.6g} rad/s"
         )
     return dict(
-        wheels=(sides[0].name, sides[1].name),
+        wheels=reading.sides,
         wheel_radius=float(r),
         half_track=b,
-        reference_point=(float(offset[0]), float(offset[1])),
+        reference_point=(float(reading.reference[0]), float(reading.reference[1])),
         platform_limits=limits_text,
     )
 
@@ -770,27 +750,6 @@ def _platform_efforts(platform: Platform, wheel_joints) -> list[float | None]:
         known = [v for v in values if v is not None]
         efforts.append(float(sum(known)) if len(known) == len(values) else None)
     return efforts
-
-
-def _car(tree, passive, groups, poses, base_pose, offset, wheel_pair) -> CarLike:
-    """A car from the rear wheel pair and a steering joint (revolute about the vertical, off the chains, on the
-    platform) ahead of the rear axle; length = the steering joint's distance ahead of the axle midpoint."""
-    inv = np.linalg.inv(base_pose)
-    steering = []
-    for j in passive:
-        if j.type != "revolute" or groups[j.parent] is not None or j in wheel_pair:
-            continue
-        t = inv @ poses[j.child]
-        axis = t[:3, :3] @ _axis(j)
-        if abs(abs(axis[2]) - 1.0) < 1e-9 and abs(t[1, 3] - offset[1]) < 1e-9:
-            steering.append((j, t[0, 3] - offset[0]))
-    if len(steering) != 1 or steering[0][1] <= 0:
-        seen = ", ".join(j.name for j, _ in steering) or "none"
-        raise ModelError(
-            "platform='car': needs one steering joint (revolute about the vertical, on the platform's centre line "
-            f"ahead of the rear axle); candidates seen: {seen}"
-        )
-    return CarLike(length=float(steering[0][1]))
 
 
 def _platform_inertials(tree, links, platform_pose, poses, wheel_pair):
@@ -832,8 +791,6 @@ def inspect_urdf(path: str | os.PathLike[str], **options: Any) -> UrdfSummary:
 
 
 # --- writing ---------------------------------------------------------------------------------------
-
-CAR_WHEEL_RADIUS = 0.1  # m: the wheel radius written for a car (the kinematic car has none)
 
 
 def _u_inertial(mass: float, com, inertia) -> "object":
@@ -889,6 +846,7 @@ def _wheel(name: str, parent: str, xyz, radius: float, speed, wheel: Wheel | Non
 
 
 def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
+    """The platform link and the joints of the platform's URDF form (:meth:`Platform.urdf_joints`)."""
     from yourdfpy import Joint as UJoint
     from yourdfpy import Limit, Link
 
@@ -897,52 +855,28 @@ def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
         inertial = _u_inertial(body.mass, body.com, np.diag([0.0, 0.0, body.inertia_z]))
     links = [Link("base_footprint", inertial=inertial, visuals=_u_visuals(robot.platform_visuals))]
     joints: list = []
-    platform = robot.platform
-    if platform.wheel_actuated:
-        speeds = platform.actuator_speed_limits
-        names = _wheel_names(platform)
-        for name, site in zip(names, platform.wheels()):
-            speed = None if speeds is None or site.actuator is None else speeds[site.actuator]
-            xyz = (site.x, site.y, site.radius)
-            link, joint = _wheel(name, "base_footprint", xyz, site.radius, speed, wheel)
-            links.append(link)
-            joints.append(joint)
-    elif isinstance(platform, CarLike):
-        r = CAR_WHEEL_RADIUS
-        for side, y in (("wheel_rear_right", -r), ("wheel_rear_left", r)):
-            link, joint = _wheel(side, "base_footprint", (0.0, y, r), r, None, None)
-            links.append(link)
-            joints.append(joint)
-        origin = np.eye(4)
-        origin[:3, 3] = (platform.length, 0.0, r)
-        links.append(Link("steering_link"))
-        joints.append(
-            UJoint(
-                "steering_joint",
+    for part in robot.platform.urdf_joints():
+        if part.radius is not None:
+            link, joint = _wheel(
+                part.name, part.parent, part.xyz, part.radius, part.speed, wheel if part.driven else None
+            )
+        else:
+            origin = np.eye(4)
+            origin[:3, 3] = part.xyz
+            lower, upper = part.limits or (-math.pi, math.pi)
+            link = Link(f"{part.name}_link")
+            joint = UJoint(
+                f"{part.name}_joint",
                 "revolute",
-                "base_footprint",
-                "steering_link",
+                part.parent,
+                link.name,
                 origin,
                 np.array([0.0, 0.0, 1.0]),
-                limit=Limit(effort=None, velocity=None, lower=-math.pi / 2, upper=math.pi / 2),
+                limit=Limit(effort=None, velocity=None, lower=lower, upper=upper),
             )
-        )
-        link, joint = _wheel("wheel_front", "steering_link", (0.0, 0.0, 0.0), r, None, None)
         links.append(link)
         joints.append(joint)
-    elif platform.wheels():
-        raise ModelError(f"write_urdf: no URDF form for a {type(platform).__name__} platform")
     return links, joints
-
-
-def _wheel_names(platform: Platform) -> list[str]:
-    """wheel_right, wheel_left for two driven wheels; wheel_front_right, wheel_rear_right, … for more."""
-    sites = platform.wheels()
-    if len(sites) == 2:
-        return ["wheel_right" if site.y < 0 else "wheel_left" for site in sites]
-    return [
-        f"wheel_{'front' if site.x > 0 else 'rear'}_{'right' if site.y < 0 else 'left'}" for site in sites
-    ]
 
 
 def _limit_value(value: float):

@@ -5,8 +5,9 @@ G(q)). Its planar reference frame has its pose in the world as the first three c
 q_p (Bayle §2); further coordinates (the steering angle of a car) follow. A :class:`Platform` carries its
 whole behaviour: the admissible-velocity basis :meth:`Platform.S`, the constraints :meth:`Platform.constraints`
 (G S = 0), both also in SymPy form, its velocity limits, how its actuators map to the quasi-velocities
-(η_p = T u), its wheels for the dynamic model and the viewer, and whether it moves along a constant body twist
-(S(q_p) = R(θ) B, integrated exactly on SE(2)).
+(η_p = T u), its wheels for the dynamic model and the viewer, whether it moves along a constant body twist
+(S(q_p) = R(θ) B, integrated exactly on SE(2)), and its URDF form (:meth:`Platform.from_urdf`,
+:meth:`Platform.urdf_joints`; :mod:`mobman.model.platforms.urdf_form`).
 
 Every subclass that sets ``kind`` registers itself: :func:`platform_class` finds it by that name (the
 ``kind`` of a robot file's ``[platform]`` table, the ``platform=`` of a URDF reader).
@@ -27,6 +28,7 @@ from jax.typing import ArrayLike
 
 from mobman import checks
 from mobman.errors import ModelError
+from mobman.model.platforms.urdf_form import UrdfJoint, UrdfPlatform, UrdfReader
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -174,6 +176,38 @@ class Platform(ABC):
     def footprint(self) -> Footprint:
         """The body box the viewer draws for this platform."""
         return Footprint(0.6, 0.5, 0.08, 0.0)
+
+    # --- URDF form ------------------------------------------------------------------------------------
+
+    @classmethod
+    def from_urdf(cls, urdf: UrdfReader) -> UrdfPlatform:
+        """The platform read from a URDF file (:func:`mobman.io.urdf.read_urdf` with ``platform=kind``). By
+        default no wheels: the platform frame at the base link's origin, the parameters from
+        ``platform_options``."""
+        return UrdfPlatform(urdf.build(cls))
+
+    def urdf_joints(self) -> tuple[UrdfJoint, ...]:
+        """The platform's joints in a URDF file (:func:`mobman.io.urdf.write_urdf`). By default one
+        continuous joint per wheel of :meth:`wheels`, driven by its actuator at the actuator's speed limit:
+        wheel_right, wheel_left for two wheels; wheel_front_right, wheel_rear_right, … for more."""
+        sites, speeds = self.wheels(), self.actuator_speed_limits
+        if len(sites) == 2:
+            names = ["wheel_right" if site.y < 0 else "wheel_left" for site in sites]
+        else:
+            names = [
+                f"wheel_{'front' if s.x > 0 else 'rear'}_{'right' if s.y < 0 else 'left'}" for s in sites
+            ]
+        return tuple(
+            UrdfJoint(
+                name,
+                "base_footprint",
+                (site.x, site.y, site.radius),
+                radius=site.radius,
+                speed=None if speeds is None or site.actuator is None else speeds[site.actuator],
+                driven=site.actuator is not None,
+            )
+            for name, site in zip(names, sites)
+        )
 
     # --- controllability ------------------------------------------------------------------------------
 

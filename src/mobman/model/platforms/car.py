@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
@@ -11,6 +12,7 @@ import jax.numpy as jnp
 from mobman import checks
 from mobman.errors import ModelError
 from mobman.model.platforms.base import Footprint, Platform, WheelSite
+from mobman.model.platforms.urdf_form import UrdfJoint, UrdfPlatform, UrdfReader, midpoint
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -101,3 +103,35 @@ class CarLike(Platform):
 
     def footprint(self) -> Footprint:
         return Footprint(1.4 * self.length, 0.48 * self.length, 0.15 * self.length, self.length / 2)
+
+    URDF_WHEEL_RADIUS: ClassVar[float] = 0.1
+    """The wheel radius (m) of the car's URDF form (the kinematic car has none)."""
+
+    @classmethod
+    def from_urdf(cls, urdf: UrdfReader) -> UrdfPlatform:
+        """The rear axle (the file's one wheel pair, or ``wheels=``) and one steering joint on the platform's
+        centre line ahead of it: the platform frame at the rear axle's midpoint, ``length`` the steering
+        joint's distance ahead of it."""
+        right, left = urdf.wheel_pair()
+        reference = midpoint(right, left)
+        ahead = [s for s in urdf.steering_joints() if abs(s.y - reference[1]) < 1e-9]
+        if len(ahead) != 1 or ahead[0].x - reference[0] <= 0:
+            seen = ", ".join(s.name for s in ahead) or "none"
+            raise ModelError(
+                "platform='car': needs one steering joint (revolute about the vertical, on the platform's "
+                f"centre line ahead of the rear axle); candidates seen: {seen}"
+            )
+        platform = urdf.build(cls, length=ahead[0].x - reference[0])
+        return UrdfPlatform(platform, reference, (right.name, left.name), (right.name, left.name))
+
+    def urdf_joints(self) -> tuple[UrdfJoint, ...]:
+        """The rear wheels, the steering joint at (length, 0) and the front wheel it turns (none driven)."""
+        r = self.URDF_WHEEL_RADIUS
+        return (
+            UrdfJoint("wheel_rear_right", "base_footprint", (0.0, -r, r), radius=r),
+            UrdfJoint("wheel_rear_left", "base_footprint", (0.0, r, r), radius=r),
+            UrdfJoint(
+                "steering", "base_footprint", (self.length, 0.0, r), limits=(-math.pi / 2, math.pi / 2)
+            ),
+            UrdfJoint("wheel_front", "steering_link", (0.0, 0.0, 0.0), radius=r),
+        )

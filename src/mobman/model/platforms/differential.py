@@ -11,6 +11,7 @@ import numpy as np
 
 from mobman import checks
 from mobman.model.platforms.base import Footprint, Platform, WheelSite, check_wheel_limits
+from mobman.model.platforms.urdf_form import UrdfPlatform, UrdfReader, distance, midpoint
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -108,6 +109,20 @@ class DifferentialDrive(Platform):
 
     def footprint(self) -> Footprint:
         return Footprint(2.4 * self.half_track, 1.5 * self.half_track, self.wheel_radius, 0.0)
+
+    @classmethod
+    def from_urdf(cls, urdf: UrdfReader) -> UrdfPlatform:
+        """The file's one axle (or the ``wheels=`` pair): r from the right wheel's geometry, b half the
+        distance between the wheels, the platform frame at the axle midpoint and the wheel speed limit the
+        smaller of the two joints' velocity limits."""
+        right, left = urdf.wheel_pair()
+        platform = urdf.build(
+            cls,
+            wheel_radius=urdf.wheel_radius(right),
+            half_track=urdf.half_track(distance(right, left) / 2),
+            wheel_speed_max=urdf.wheel_speed((right, left)),
+        )
+        return UrdfPlatform(platform, midpoint(right, left), (right.name, left.name), (right.name, left.name))
 
     def wheel_matrix(self) -> np.ndarray:
         """W with (v, ω) = W (φ̇_r, φ̇_l): v = r(φ̇_r + φ̇_l)/2, ω = r(φ̇_r − φ̇_l)/(2b) (Korayem eq. 14–15)."""

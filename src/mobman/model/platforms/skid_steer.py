@@ -20,6 +20,7 @@ import numpy as np
 from mobman import checks
 from mobman.errors import ModelError
 from mobman.model.platforms.base import Footprint, Platform, WheelSite, check_wheel_limits
+from mobman.model.platforms.urdf_form import UrdfPlatform, UrdfReader, UrdfWheel
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -166,3 +167,29 @@ class SkidSteer(Platform):
         return Footprint(
             self.wheelbase + 2 * self.wheel_radius, 1.5 * self.half_track, self.wheel_radius, 0.0
         )
+
+    @classmethod
+    def from_urdf(cls, urdf: UrdfReader) -> UrdfPlatform:
+        """The file's two axles (front, rear): r from the front right wheel's geometry, b half the distance
+        between the front wheels, the wheelbase the distance between the axles, the platform frame at the
+        centre of the four wheels; x_icr and track_factor from ``platform_options`` (a URDF does not state
+        them)."""
+        axles = urdf.axles()
+        if len(axles) != 2 or len({w.name for axle in axles for w in axle}) != 4:
+            seen = ", ".join(urdf.continuous_joints()) or "none"
+            raise ModelError(
+                "platform='skid_steer': needs four wheel joints on two axles (continuous joints off the arm "
+                f"chains); continuous joints seen: {seen}"
+            )
+        (front_right, front_left), (rear_right, rear_left) = sorted(axles, key=lambda a: -(a[0].x + a[1].x))
+        wheels: tuple[UrdfWheel, ...] = (front_right, rear_right, front_left, rear_left)  # as in wheels()
+        platform = urdf.build(
+            cls,
+            wheel_radius=urdf.wheel_radius(front_right),
+            half_track=urdf.half_track(abs(front_left.y - front_right.y) / 2),
+            wheelbase=abs(front_right.x - rear_right.x),
+            wheel_speed_max=urdf.wheel_speed(wheels),
+        )
+        centre = (sum(w.x for w in wheels) / 4, sum(w.y for w in wheels) / 4)
+        names = tuple(w.name for w in wheels)
+        return UrdfPlatform(platform, centre, names, (front_right.name, front_left.name))
