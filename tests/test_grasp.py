@@ -8,7 +8,14 @@ import numpy as np
 import pytest
 
 import mobman  # noqa: F401  (float64)
-from mobman.dynamics.grasp import HeldObject, grasp_matrix, grasp_matrix_rate, internal_force_basis
+from mobman.dynamics.grasp import (
+    HeldObject,
+    grasp_matrix,
+    grasp_matrix_one,
+    grasp_matrix_rate,
+    grasp_matrix_rate_one,
+    internal_force_basis,
+)
 from mobman.errors import InputError, ModelError
 
 RNG = np.random.default_rng(7)
@@ -134,3 +141,16 @@ def test_invalid_object_names_the_field(kwargs, field):
 def test_bad_offsets_shape():
     with pytest.raises(InputError, match="offsets"):
         grasp_matrix(np.zeros((2, 4)))
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_traced_code_calls_the_plain_functions_with_the_same_values(d):
+    """The ``_one`` functions (for jit, grad, vmap) give the public functions' values; the public functions
+    check their input at the boundary."""
+    r = RNG.normal(size=(4, 2, d))
+    omega = RNG.normal(size=(4,) if d == 2 else (4, 3))
+    np.testing.assert_array_equal(jax.jit(grasp_matrix_one)(r), grasp_matrix(r))
+    np.testing.assert_array_equal(jax.jit(grasp_matrix_rate_one)(r, omega), grasp_matrix_rate(r, omega))
+    r[1, 0, 0] = np.nan
+    with pytest.raises(InputError, match="finite"):
+        grasp_matrix(r)

@@ -53,7 +53,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics
-from mobman.dynamics.grasp import HeldObject, grasp_matrix, grasp_matrix_rate
+from mobman.dynamics.grasp import HeldObject, grasp_matrix_one, grasp_matrix_rate_one
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import PlanarAngle, Position, Task, stack
@@ -285,7 +285,7 @@ def _kinematic(robot: MobileManipulator, task: Task, held: str | None, q, u_max)
         if held == "point":
             w = jnp.asarray(point_grasp_matrix(len(robot.arms)))
         else:
-            w = grasp_matrix(grasp_offsets_one(robot, q))
+            w = grasp_matrix_one(grasp_offsets_one(robot, q))
         w_left = jnp.linalg.solve(w @ w.T, w)  # (W Wᵀ)⁻¹ W: v_o from rigid end-effector velocities
         internal = jnp.eye(w.shape[1]) - w.T @ w_left  # projector onto internal (non-rigid) velocities
         cj = internal @ jhat
@@ -374,9 +374,9 @@ def _dynamic_terms(
             bias_o = obj.bias(jnp.zeros(3), gravity=model.gravity)[:2]
         else:
             r = grasp_offsets_one(robot, q)
-            w = grasp_matrix(r)
+            w = grasp_matrix_one(r)
             v_o = jnp.linalg.solve(w @ w.T, w @ (j @ eta))
-            drift = drift - grasp_matrix_rate(r, v_o[2]).T @ v_o
+            drift = drift - grasp_matrix_rate_one(r, v_o[2]).T @ v_o
             m_o = jnp.asarray(obj.mass_matrix(planar=True))
             bias_o = obj.bias(v_o, gravity=model.gravity)
         p = t.T @ reduced.reduced_mass_matrix_one(model, q) @ t

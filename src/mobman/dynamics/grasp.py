@@ -30,16 +30,13 @@ from mobman.errors import InputError
 
 
 def _offsets(offsets) -> jnp.ndarray:
-    r: jax.Array | np.ndarray
-    if isinstance(offsets, jax.core.Tracer):
-        r = offsets
-    else:
-        try:
-            r = np.asarray(offsets, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"grasp offsets: expected numbers, got {type(offsets).__name__}") from None
-        if not np.isfinite(r).all():
-            raise InputError("grasp offsets: every component must be finite")
+    """Grasp offsets checked at the boundary (the public functions; traced code calls the ``_one`` ones)."""
+    try:
+        r = np.asarray(offsets, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"grasp offsets: expected numbers, got {type(offsets).__name__}") from None
+    if not np.isfinite(r).all():
+        raise InputError("grasp offsets: every component must be finite")
     if r.ndim < 2 or r.shape[-1] not in (2, 3) or r.shape[-2] == 0:
         raise InputError(
             f"grasp offsets: expected shape (..., k, 2) or (..., k, 3) with k ≥ 1, got {r.shape}"
@@ -62,7 +59,11 @@ def grasp_matrix(offsets: npt.ArrayLike) -> jnp.ndarray:
     ``offsets``: (..., k, 2) planar or (..., k, 3) spatial grasp-point offsets r_i from the object's centre of
     mass, in world axes. Returns (..., 3, 3k) planar or (..., 6, 6k) spatial.
     """
-    r = _offsets(offsets)
+    return grasp_matrix_one(_offsets(offsets))
+
+
+def grasp_matrix_one(r: jax.Array) -> jnp.ndarray:
+    """:func:`grasp_matrix` of offsets r (..., k, 2 or 3), unvalidated: for traced code."""
     batch, k, d = r.shape[:-2], r.shape[-2], r.shape[-1]
     if d == 2:
         eye = jnp.broadcast_to(jnp.eye(2), batch + (k, 2, 2))
@@ -84,26 +85,26 @@ def grasp_matrix_rate(offsets: npt.ArrayLike, omega: npt.ArrayLike) -> jnp.ndarr
     ``omega``: the object's angular velocity, (...,) planar (about the vertical) or (..., 3) spatial.
     Returns the time derivative of :func:`grasp_matrix`, same shape.
     """
-    r = _offsets(offsets)
-    omega = jnp.asarray(omega, dtype=float)
+    return grasp_matrix_rate_one(_offsets(offsets), jnp.asarray(omega, dtype=float))
+
+
+def grasp_matrix_rate_one(r: jax.Array, omega: jax.Array) -> jnp.ndarray:
+    """:func:`grasp_matrix_rate`, unvalidated: for traced code. W is affine in r, so Ẇ = W(ṙ) − W(0)."""
     if r.shape[-1] == 2:
         r_dot = omega[..., None, None] * jnp.stack([-r[..., 1], r[..., 0]], axis=-1)
-        w_dot = grasp_matrix(r_dot) - grasp_matrix(jnp.zeros_like(r_dot))
     else:
         r_dot = jnp.cross(omega[..., None, :], r)
-        w_dot = grasp_matrix(r_dot) - grasp_matrix(jnp.zeros_like(r_dot))
-    return w_dot
+    return grasp_matrix_one(r_dot) - grasp_matrix_one(jnp.zeros_like(r_dot))
 
 
 def internal_force_basis(w: jnp.ndarray | np.ndarray) -> jnp.ndarray:
     """Orthonormal basis of null(W), shape (..., mk, mk − m): the internal (squeeze) wrenches, which leave the
     object's net wrench unchanged. Assumes W of full row rank, as every W of :func:`grasp_matrix` is."""
-    if not isinstance(w, jax.core.Tracer):
-        w = np.asarray(w, dtype=float)
-        if w.ndim < 2 or w.shape[-2] > w.shape[-1] or not np.isfinite(w).all():
-            raise InputError(
-                f"internal_force_basis: W must be a finite (..., m, n) matrix with m ≤ n, got {w.shape}"
-            )
+    w = np.asarray(w, dtype=float)
+    if w.ndim < 2 or w.shape[-2] > w.shape[-1] or not np.isfinite(w).all():
+        raise InputError(
+            f"internal_force_basis: W must be a finite (..., m, n) matrix with m ≤ n, got {w.shape}"
+        )
     _, _, vt = jnp.linalg.svd(w, full_matrices=True)
     return jnp.swapaxes(vt[..., w.shape[-2] :, :], -1, -2)
 

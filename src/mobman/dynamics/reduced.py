@@ -149,10 +149,8 @@ def _constraint_forces(model, q, eta, eta_dot, tau):
 
 
 def validated_eta(model: DynamicModel, value: npt.ArrayLike, name: str) -> np.ndarray | jax.Array:
-    """A quasi-velocity-sized array (η, η̇ or τ) checked for shape and finiteness; errors name ``name``
-    (traced values pass as they are)."""
-    if isinstance(value, jax.core.Tracer):
-        return value
+    """A quasi-velocity-sized array (η, η̇ or τ) checked for shape and finiteness, at the boundary of the
+    public functions (traced code calls the ``_one`` functions); errors name ``name``."""
     on_device = isinstance(value, jax.Array) and any(d.platform != "cpu" for d in value.devices())
     # host values are checked by NumPy in place and passed on as NumPy arrays: an eager jnp test (two
     # dispatches and a device-to-host wait) or a device_put costs more than a one-configuration compiled call
