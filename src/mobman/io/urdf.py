@@ -443,6 +443,10 @@ class _PlatformReader:
             and abs(axa[2]) < _AXLE_TOL
         )
 
+    def wheel(self, name: str) -> UrdfWheel:
+        """The wheel joint ``name`` with its centre."""
+        return self._wheel(self.tree.joints[name])
+
     def _wheel(self, joint) -> UrdfWheel:
         x, y, z = (float(v) for v in self._centre_axis(joint)[0])
         return UrdfWheel(joint.name, x, y, z)
@@ -715,11 +719,9 @@ def _platform_summary(reading: UrdfPlatform, reader: _PlatformReader) -> dict:
     platform = reading.platform
     if reading.sides is None:
         return dict(platform_limits=f"platform velocity limits: none ({platform.kind}, not in URDF)")
-    right, left = (reader._wheel(reader.tree.joints[n]) for n in reading.sides)
+    right, left = (reader.wheel(n) for n in reading.sides)
     r, b = reader.wheel_radius(right), reader.half_track(distance(right, left) / 2)
-    speed = reader.wheel_speed(
-        [reader._wheel(j) for j in (reader.tree.joints[n] for n in reading.wheel_joints)]
-    )
+    speed = reader.wheel_speed([reader.wheel(n) for n in reading.wheel_joints])
     if speed is None:
         limits_text = "platform velocity limits: none (the wheel joints give no velocity limit)"
     else:
