@@ -243,3 +243,12 @@ def test_wrong_sizes_are_input_errors():
         dyn.generalized_force(MODEL, np.zeros(6), np.full(6, np.nan), np.zeros(6))
     with pytest.raises(mobman.InputError, match="eta"):
         dyn.reduced_bias(MODEL, np.zeros(6), np.zeros(4))
+
+
+def test_public_reduced_functions_work_inside_a_users_vmap(states):
+    """The validated public functions accept a user's traced values (their own jit, grad or vmap)."""
+    import jax
+
+    q, _, eta, eta_dot = states
+    vmapped = jax.vmap(lambda x, e, a: dyn.inverse_dynamics(MODEL, x, e, a))(q, eta, eta_dot)
+    np.testing.assert_allclose(vmapped, dyn.inverse_dynamics(MODEL, q, eta, eta_dot), rtol=1e-12, atol=1e-12)

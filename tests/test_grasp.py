@@ -151,6 +151,7 @@ def test_traced_code_calls_the_plain_functions_with_the_same_values(d):
     omega = RNG.normal(size=(4,) if d == 2 else (4, 3))
     np.testing.assert_array_equal(jax.jit(grasp_matrix_one)(r), grasp_matrix(r))
     np.testing.assert_array_equal(jax.jit(grasp_matrix_rate_one)(r, omega), grasp_matrix_rate(r, omega))
+    np.testing.assert_array_equal(jax.jit(grasp_matrix)(r), grasp_matrix(r))  # a user's own jit
     r[1, 0, 0] = np.nan
     with pytest.raises(InputError, match="finite"):
         grasp_matrix(r)

@@ -128,7 +128,7 @@ def frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
     return robot.frames(validated_q(robot, q))
 
 
-def _vector(x, name: str, size: int) -> np.ndarray:
+def _vector(x, name: str, size: int) -> np.ndarray | jax.Array:
     """A finite float array (..., size), or InputError naming ``name``."""
     if traced(x):
         return x

@@ -26,17 +26,23 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import checks
+from mobman.engine.batched import traced
 from mobman.errors import InputError
 
 
 def _offsets(offsets) -> jnp.ndarray:
-    """Grasp offsets checked at the boundary (the public functions; traced code calls the ``_one`` ones)."""
-    try:
-        r = np.asarray(offsets, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"grasp offsets: expected numbers, got {type(offsets).__name__}") from None
-    if not np.isfinite(r).all():
-        raise InputError("grasp offsets: every component must be finite")
+    """Grasp offsets checked at the public functions' boundary (a user's traced value passes; mobman's own
+    traced code calls the ``_one`` functions)."""
+    r: jax.Array | np.ndarray
+    if traced(offsets):
+        r = offsets
+    else:
+        try:
+            r = np.asarray(offsets, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"grasp offsets: expected numbers, got {type(offsets).__name__}") from None
+        if not np.isfinite(r).all():
+            raise InputError("grasp offsets: every component must be finite")
     if r.ndim < 2 or r.shape[-1] not in (2, 3) or r.shape[-2] == 0:
         raise InputError(
             f"grasp offsets: expected shape (..., k, 2) or (..., k, 3) with k ≥ 1, got {r.shape}"
@@ -100,11 +106,12 @@ def grasp_matrix_rate_one(r: jax.Array, omega: jax.Array) -> jnp.ndarray:
 def internal_force_basis(w: jnp.ndarray | np.ndarray) -> jnp.ndarray:
     """Orthonormal basis of null(W), shape (..., mk, mk − m): the internal (squeeze) wrenches, which leave the
     object's net wrench unchanged. Assumes W of full row rank, as every W of :func:`grasp_matrix` is."""
-    w = np.asarray(w, dtype=float)
-    if w.ndim < 2 or w.shape[-2] > w.shape[-1] or not np.isfinite(w).all():
-        raise InputError(
-            f"internal_force_basis: W must be a finite (..., m, n) matrix with m ≤ n, got {w.shape}"
-        )
+    if not traced(w):
+        w = np.asarray(w, dtype=float)
+        if w.ndim < 2 or w.shape[-2] > w.shape[-1] or not np.isfinite(w).all():
+            raise InputError(
+                f"internal_force_basis: W must be a finite (..., m, n) matrix with m ≤ n, got {w.shape}"
+            )
     _, _, vt = jnp.linalg.svd(w, full_matrices=True)
     return jnp.swapaxes(vt[..., w.shape[-2] :, :], -1, -2)
 

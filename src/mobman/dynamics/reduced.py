@@ -26,7 +26,7 @@ import numpy.typing as npt
 
 from mobman.dynamics import equations as eq
 from mobman.dynamics.inertia import DynamicModel
-from mobman.engine.batched import batched
+from mobman.engine.batched import batched, traced
 from mobman.errors import InputError
 
 
@@ -149,8 +149,11 @@ def _constraint_forces(model, q, eta, eta_dot, tau):
 
 
 def validated_eta(model: DynamicModel, value: npt.ArrayLike, name: str) -> np.ndarray | jax.Array:
-    """A quasi-velocity-sized array (η, η̇ or τ) checked for shape and finiteness, at the boundary of the
-    public functions (traced code calls the ``_one`` functions); errors name ``name``."""
+    """A quasi-velocity-sized array (η, η̇ or τ) checked for shape and finiteness; errors name ``name``. A
+    user's traced value (the public functions inside their own ``jit``, ``grad`` or ``vmap``) passes as it is;
+    mobman's own traced code calls the ``_one`` functions."""
+    if traced(value):
+        return value
     on_device = isinstance(value, jax.Array) and any(d.platform != "cpu" for d in value.devices())
     # host values are checked by NumPy in place and passed on as NumPy arrays: an eager jnp test (two
     # dispatches and a device-to-host wait) or a device_put costs more than a one-configuration compiled call

@@ -34,7 +34,7 @@ import functools
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import Callable
+from typing import Callable, TypeGuard
 
 import jax
 import jax.numpy as jnp
@@ -102,7 +102,7 @@ def batched(
     return decorate
 
 
-def traced(x: object) -> bool:
+def traced(x: object) -> TypeGuard[jax.Array]:
     """Whether ``x`` is an abstract value of a JAX transformation (no values to check)."""
     return isinstance(x, jax.core.Tracer)
 
