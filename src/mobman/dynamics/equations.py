@@ -67,20 +67,9 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
     robot = model.robot
     r_p, p_p = frames.platform
     result = [
-        Body(
-            model.body.mass,
-            p_p + r_p @ np.asarray(model.body.com),
-            r_p,
-            np.diag([0.0, 0.0, model.body.inertia_z]),
-            None,
-            0,
-        )
+        Body(part.mass, p_p + r_p @ np.asarray(part.centre), r_p, part.inertia, None, 0)
+        for part in robot.platform.inertia_bodies(model.body, model.wheel)
     ]
-    w = model.wheel
-    if w is not None and robot.platform.wheel_actuated:
-        for site in _driven_wheels(model):
-            centre = p_p + r_p @ np.array([site.x, site.y, site.radius])
-            result.append(Body(w.mass, centre, r_p, np.diag([w.I_m, 0.0, w.I_m]), None, 0))
     for i, arm in enumerate(robot.arms):
         rs, ps = frames.links[i]
         for j, joint in enumerate(arm.joints):

@@ -28,6 +28,7 @@ from jax.typing import ArrayLike
 
 from mobman import checks
 from mobman.errors import ModelError
+from mobman.model.inertial import PlatformBody, Wheel
 from mobman.model.platforms.urdf_form import UrdfJoint, UrdfPlatform, UrdfReader
 
 if TYPE_CHECKING:
@@ -45,6 +46,15 @@ class WheelSite(NamedTuple):
     y: float
     radius: float
     actuator: int | None
+
+
+class RigidPart(NamedTuple):
+    """A rigid body of a platform, fixed in the platform frame: mass (kg), centre of mass (x, y, z) and
+    rotational inertia about it (3 × 3, platform axes)."""
+
+    mass: float
+    centre: tuple[float, float, float]
+    inertia: np.ndarray
 
 
 class Footprint(NamedTuple):
@@ -176,6 +186,22 @@ class Platform(ABC):
     def footprint(self) -> Footprint:
         """The body box the viewer draws for this platform."""
         return Footprint(0.6, 0.5, 0.08, 0.0)
+
+    # --- inertia --------------------------------------------------------------------------------------
+
+    def inertia_bodies(self, body: PlatformBody, wheel: Wheel | None) -> tuple[RigidPart, ...]:
+        """The platform's bodies for the dynamic model (Yamamoto & Yun eq. 7–9, Table 2): the body (m_c, I_c
+        about the vertical through its centre of mass) and, for driven wheels, each wheel of :meth:`wheels`
+        with an actuator at its centre (m_w, I_m about its diameters). A wheel's spin I_w enters separately,
+        through :meth:`actuator_rows` (the wheel speeds)."""
+        parts = [RigidPart(body.mass, body.com, np.diag([0.0, 0.0, body.inertia_z]))]
+        if wheel is not None and self.wheel_actuated:
+            parts += [
+                RigidPart(wheel.mass, (site.x, site.y, site.radius), np.diag([wheel.I_m, 0.0, wheel.I_m]))
+                for site in self.wheels()
+                if site.actuator is not None
+            ]
+        return tuple(parts)
 
     # --- URDF form ------------------------------------------------------------------------------------
 
