@@ -28,6 +28,7 @@ from itertools import accumulate
 from typing import NamedTuple, Sequence
 
 import jax.numpy as jnp
+import numpy as np
 
 from mobman.model import spatial
 
@@ -145,33 +146,33 @@ class Chain(NamedTuple):
 def mass_matrix(root_axes: Motion, root_inertia: RigidInertia, chains: Sequence[Chain]) -> jnp.ndarray:
     """The joint-space inertia matrix H of the tree by the CRBA (Featherstone §6.2, eq. 6.12–6.13):
 
-        H_ij = s_iᵀ I^c_j s_j for i inboard of (or equal to) j,   0 for joints on different chains,
+        H_ij = s_iᵀ I^c_j s_j for i inboard of (or equal to) j,   H_ji = H_ij,   0 for joints on different chains,
 
-    with I^c_j the composite inertia of all bodies outboard of joint j. ``root_axes``: the k columns of the
-    root's motion subspace; ``root_inertia``: the root bodies (summed). Returns H, (k + Σ n) square, in the
-    order root columns, chain 0, chain 1, …
+    with I^c_j the composite inertia of all bodies outboard of joint j (for a root column: of the whole tree).
+    ``root_axes``: the k columns of the root's motion subspace; ``root_inertia``: the root bodies (summed).
+    Returns H, (k + Σ n) square, in the order root columns, chain 0, chain 1, …
     """
     total = root_inertia.total()
-    blocks_root, diagonal = [], []
-    for chain in chains:
-        composite = chain.inertia.outboard()
+    composites = [chain.inertia.outboard() for chain in chains]
+    for composite in composites:
         total = RigidInertia(*(a + b[0] for a, b in zip(total, composite)))
-        f = composite.apply(chain.axes)  # F_j = I^c_j s_j
-        blocks_root.append(_pairing(root_axes, f))
-        g = _pairing(chain.axes, f)  # g[i, j] = s_iᵀ I^c_j s_j
-        n = g.shape[0]
-        inboard = jnp.arange(n)[:, None] <= jnp.arange(n)[None, :]
-        diagonal.append(jnp.where(inboard, g, g.T))
-    f_root = total.apply(Motion(root_axes.angular, root_axes.linear))
-    h_root = _pairing(root_axes, f_root)
-    sizes = [d.shape[0] for d in diagonal]
-    rows = [jnp.concatenate([h_root, *blocks_root], axis=1)]
-    for c, (block, d) in enumerate(zip(blocks_root, diagonal)):
-        row = [block.T] + [
-            d if k == c else jnp.zeros((sizes[c], sizes[k]), d.dtype) for k in range(len(sizes))
-        ]
-        rows.append(jnp.concatenate(row, axis=1))
-    return jnp.concatenate(rows, axis=0)
+    axes = Motion(*(jnp.concatenate(x) for x in zip(root_axes, *(chain.axes for chain in chains))))
+    f = [total.apply(root_axes)] + [c.apply(chain.axes) for c, chain in zip(composites, chains)]
+    g = _pairing(axes, Force(*(jnp.concatenate(x) for x in zip(*f))))  # g[i, j] = s_iᵀ I^c_j s_j
+    inboard = _inboard(root_axes.angular.shape[0], [chain.axes.angular.shape[0] for chain in chains])
+    return jnp.where(inboard, g, jnp.where(inboard.T, g.T, 0.0))
+
+
+def _inboard(k: int, sizes: Sequence[int]) -> np.ndarray:
+    """inboard[i, j]: column i is the root's or a joint of j's chain at or before j (i ∈ κ(j) ∪ {j})."""
+    n = k + sum(sizes)
+    out = np.zeros((n, n), dtype=bool)
+    out[:k, :] = True
+    start = k
+    for size in sizes:
+        out[start : start + size, start : start + size] = np.triu(np.ones((size, size), dtype=bool))
+        start += size
+    return out
 
 
 def inverse_dynamics(
