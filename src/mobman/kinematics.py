@@ -66,11 +66,11 @@ def validated_q(robot: MobileManipulator, q: npt.ArrayLike) -> np.ndarray | jax.
     return robot.validate_q(q)
 
 
-def _robot_q(robot: MobileManipulator, q) -> tuple:
+def _robot_q(robot: MobileManipulator, q: npt.ArrayLike) -> tuple:
     return robot, validated_q(robot, q)
 
 
-def _robot_q_task(robot: MobileManipulator, q, task: Task | None = None) -> tuple:
+def _robot_q_task(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None) -> tuple:
     return robot, validated_q(robot, q), resolve_task(robot, task)
 
 
@@ -96,7 +96,7 @@ def reduced_jacobian(robot: MobileManipulator, q: jax.Array, task: Task | None =
 
 
 @batched({1: 1}, static=(0, 2), validate=_robot_q_task)
-def _representation(robot: MobileManipulator, q, task: Task | None = None) -> jnp.ndarray:
+def _representation(robot: MobileManipulator, q: jax.Array, task: Task | None = None) -> jnp.ndarray:
     assert task is not None  # resolved by the validator
     return task.representation_singular(robot, q, robot.frames(q))
 
@@ -128,7 +128,7 @@ def frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
     return robot.frames(validated_q(robot, q))
 
 
-def _vector(x, name: str, size: int) -> np.ndarray | jax.Array:
+def _vector(x: npt.ArrayLike, name: str, size: int) -> np.ndarray | jax.Array:
     """A finite float array (..., size), or InputError naming ``name``."""
     if traced(x):
         return x

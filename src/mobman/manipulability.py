@@ -64,7 +64,7 @@ def _safe_ratio(num: jnp.ndarray, den: jnp.ndarray) -> jnp.ndarray:
     return jnp.where(ok, num / jnp.where(ok, den, 1.0), 0.0)
 
 
-def _check_rank(rank, p: int) -> None:
+def _check_rank(rank: object, p: int) -> None:
     if rank is not None and not (isinstance(rank, (int, np.integer)) and 1 <= rank <= p):
         raise InputError(
             f"rank must be None or an integer in 1..{p} (the number of singular values), got {rank!r}"
@@ -101,7 +101,7 @@ def measures_one(j: jnp.ndarray, rank: int | None = None) -> dict[str, jnp.ndarr
     return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)
 
 
-def _as_jacobian(j) -> jnp.ndarray:
+def _as_jacobian(j: npt.ArrayLike) -> jnp.ndarray:
     if traced(j):
         return j
     # a float64 jax.Array passes as it is: a converted copy would leave jit's fast dispatch path (~35 µs)
@@ -124,11 +124,11 @@ def _as_jacobian(j) -> jnp.ndarray:
 _all_finite = jax.jit(lambda a: jnp.all(jnp.isfinite(a)))
 
 
-def _jacobian_argument(j) -> tuple:
+def _jacobian_argument(j: npt.ArrayLike) -> tuple:
     return (_as_jacobian(j),)
 
 
-def _jacobian_and_rank(j, rank: int | None = None) -> tuple:
+def _jacobian_and_rank(j: npt.ArrayLike, rank: int | None = None) -> tuple:
     j = _as_jacobian(j)
     _check_rank(rank, min(j.shape[-2:]))
     return j, None if rank is None else int(rank)
@@ -229,7 +229,7 @@ def admissible_ranks(robot: MobileManipulator, task: Task | None = None) -> dict
     return {"arm": d_arm, "system": d_bar, "system_normalized": d_bar}
 
 
-def _resolve_rank(robot, task, which: str, rank: Rank) -> int | None:
+def _resolve_rank(robot: MobileManipulator, task: Task | None, which: str, rank: Rank) -> int | None:
     """The rank used for ``which``: ``None`` (plain), an integer, or ``"auto"`` (generic rank if below m)."""
     if rank != "auto":
         return rank
@@ -324,7 +324,11 @@ def _check_options(
 
 
 def _validated_options(
-    robot: MobileManipulator, q, which: str = "system", task: Task | None = None, rank: Rank = None
+    robot: MobileManipulator,
+    q: npt.ArrayLike,
+    which: str = "system",
+    task: Task | None = None,
+    rank: Rank = None,
 ) -> tuple:
     task, r = _prepare(robot, which, task, rank)
     return robot, K.validated_q(robot, q), which, task, r
@@ -355,7 +359,7 @@ def jacobian_and_measures(
 
 def _validated_gradient_options(
     robot: MobileManipulator,
-    q,
+    q: npt.ArrayLike,
     which: str = "system",
     measure: str = "eccentricity",
     task: Task | None = None,

@@ -29,7 +29,7 @@ import itertools
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
-from typing import Callable, Sequence
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
 import sympy as sp
@@ -425,7 +425,7 @@ def consistency_relations(
     return sp.Matrix.vstack(*rows) if rows else sp.zeros(0, jbar.rows)
 
 
-def _distinct(expressions) -> list[sp.Expr]:
+def _distinct(expressions: Iterable[sp.Expr]) -> list[sp.Expr]:
     out: list[sp.Expr] = []
     for e in expressions:
         if not any(sp.expand(e - f) == 0 or sp.expand(e + f) == 0 for f in out):  # canonical forms

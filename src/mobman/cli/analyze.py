@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 import typer
 from rich.console import Console
 from rich.table import Table
@@ -200,7 +201,7 @@ def analyze_command(
     _print(result, sym)
 
 
-def _fmt(values, digits: int = 4) -> str:
+def _fmt(values: npt.ArrayLike, digits: int = 4) -> str:
     return np.array2string(
         np.asarray(values, dtype=float), precision=digits, suppress_small=True, max_line_width=120
     )

@@ -49,6 +49,7 @@ exits with status 2.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -67,7 +68,8 @@ from mobman.io import spec as fields
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
 
 if TYPE_CHECKING:
-    from mobman.dynamics import DynamicModel
+    from mobman.dynamics import DynamicModel, LoadCapacity, Payload
+    from mobman.model.robot import MobileManipulator
 
 TOP_KEYS = ("gravity", "robot", "motion", "platform", "wheel", "links", "payload", "actuators")
 ACTUATOR_KINDS = {"dc_motor": ("stall_torque", "no_load_speed"), "torque_box": ("lower", "upper")}
@@ -85,7 +87,9 @@ class LoadSpec:
     motion: str
 
 
-def _vector(table: dict, key: str, field: str, size: tuple[int, ...], default=None) -> tuple[float, ...]:
+def _vector(
+    table: dict, key: str, field: str, size: tuple[int, ...], default: Sequence[float] | None = None
+) -> tuple[float, ...]:
     value = table.get(key, default)
     if value is None:
         raise InputError(f"{field}.{key}: missing")
@@ -95,7 +99,7 @@ def _vector(table: dict, key: str, field: str, size: tuple[int, ...], default=No
     return tuple(arr.ravel())
 
 
-def _inertials(data: dict, robot):
+def _inertials(data: dict, robot: MobileManipulator) -> DynamicModel:
     """Platform body, wheel, link inertials attached to the robot, payload. A real robot (``tiago``, …) given
     without [platform], [wheel] and [[links]] takes them from its URDF."""
     from dataclasses import replace
@@ -162,7 +166,7 @@ def _inertials(data: dict, robot):
     )
 
 
-def _payload(data: dict, robot):
+def _payload(data: dict, robot: MobileManipulator) -> Payload:
     """The [payload] table's load shape (per kg), a point mass at arm 0's tool by default."""
     from mobman import dynamics as dyn
 
@@ -225,7 +229,9 @@ def _urdf_actuators(names: tuple[str, ...], robot_name: str) -> dict:
     return {n: TorqueBox.symmetric(v) for n, v in zip(names, limits) if v is not None}
 
 
-def _motion(data: dict, robot, max_steps: int):
+def _motion(
+    data: dict, robot: MobileManipulator, max_steps: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
     """(t, q, η, description) of the motion table."""
     from mobman.control import simulate
 
@@ -345,7 +351,7 @@ def load_capacity_command(
         )
 
 
-def _print(spec_path: Path, spec: LoadSpec, result, summary: dict, out: Path | None) -> None:
+def _print(spec_path: Path, spec: LoadSpec, result: LoadCapacity, summary: dict, out: Path | None) -> None:
     load_text = (
         f"{result.max_load:.4f} kg"
         if result.bounded

@@ -32,7 +32,7 @@ from mobman.io.numbers import parse_vector
 from mobman.io.output import check_folder, results_folder
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import FunctionTask
-from mobman.planning.algorithms import ALGORITHMS, Options, plan
+from mobman.planning.algorithms import ALGORITHMS, Options, PlanResult, plan
 from mobman.planning.basis import Fourier
 from mobman.planning.endpoint import PlanningSetting, configuration_path, dexterity
 from mobman.planning.figures import plot_convergence, plot_paths
@@ -232,7 +232,7 @@ def plan_command(
         )
 
 
-def _print(report: dict, result, options: Options, robot_name: str, algorithm: str) -> None:
+def _print(report: dict, result: PlanResult, options: Options, robot_name: str, algorithm: str) -> None:
     table = Table(title=f"mobman plan {robot_name} ({algorithm}, Δθ = {options.step})")
     table.add_column("quantity")
     table.add_column("value", overflow="fold")

@@ -44,11 +44,11 @@ PLOT_SAMPLES = 10_000
 """Most samples drawn in the figures (and saved in ``trajectories.json``) of a run computed in pieces."""
 
 
-def _steps(spec) -> int:
+def _steps(spec: Spec) -> int:
     return int(round(spec.duration / spec.dt)) + 1
 
 
-def _values_per_step(spec) -> int:
+def _values_per_step(spec: Spec) -> int:
     """Floats stored per time step: q, η (and the law's diagnostics), ξ, ξ*, the error, the measures."""
     robot = spec.robot
     return 2 * robot.n_q + 3 * robot.n_eta + 3 * spec.task.dim + len(spec.measures) + 4
@@ -71,7 +71,7 @@ def _progress(show: bool) -> Iterator[Callable[[float], None] | None]:
         yield lambda f: progress.update(bar, completed=f)
 
 
-def _arguments(spec) -> dict[str, Any]:
+def _arguments(spec: Spec) -> dict[str, Any]:
     """The keyword arguments of :func:`mobman.control.simulate` that a spec sets."""
     return {
         "robot": spec.robot,
@@ -86,14 +86,14 @@ def _arguments(spec) -> dict[str, Any]:
     }
 
 
-def _run(spec, quiet: bool):
+def _run(spec: Spec, quiet: bool) -> SimulationResult:
     from mobman.control import simulate
 
     with _progress(not quiet and _steps(spec) > PROGRESS_STEPS) as progress:
         return simulate(**_arguments(spec), progress=progress)
 
 
-def _series(result) -> dict:
+def _series(result: SimulationResult) -> dict:
     """The time series of a run that results.json holds, by name (``measures``: a table of them)."""
     return {
         "t": result.t,
@@ -149,7 +149,7 @@ def stream(
     return summary.metrics(), piece
 
 
-def _decimated(folder: Path, spec, samples: int):
+def _decimated(folder: Path, spec: Spec, samples: int) -> tuple[SimulationResult, int]:
     """Every k-th sample (and the last) of a run written in pieces into ``folder``, as a result to draw."""
     from mobman.control.simulation import SimulationResult
 
@@ -175,9 +175,10 @@ def _decimated(folder: Path, spec, samples: int):
     ), stride
 
 
-def _figures(out: Path, spec_path: Path, result) -> list[Path]:
+def _figures(out: Path, spec_path: Path, result: SimulationResult) -> list[Path]:
     from mobman.viz import plot_paths, plot_timeseries
 
+    assert result.robot is not None  # a run of simulate() records its robot
     trajectories.write(out, [trajectories.Motion.of(spec_path.stem, result.robot, result.t, result.q)])
     figures = [out / "paths.png", out / "timeseries.png"]
     save_figure(plot_paths(result.robot, result.q, reference=result.xi_star[:, :2]), figures[0], dpi=120)
@@ -191,7 +192,7 @@ def _figures(out: Path, spec_path: Path, result) -> list[Path]:
     return figures
 
 
-def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
+def _write(out: Path, spec_path: Path, result: SimulationResult, summary: dict) -> list[Path]:
     write_text(
         out / "results.json",
         dump_json({"spec": str(spec_path), "metrics": summary, "series": _series(result)}),
@@ -199,7 +200,7 @@ def _write(out: Path, spec_path: Path, result, summary: dict) -> list[Path]:
     return _figures(out, spec_path, result)
 
 
-def _write_streamed(out: Path, spec_path: Path, spec, summary: dict) -> list[Path]:
+def _write_streamed(out: Path, spec_path: Path, spec: Spec, summary: dict) -> list[Path]:
     samples = _steps(spec)
     result, stride = _decimated(out, spec, samples)
     files: dict[str, str | dict[str, str]] = {
@@ -265,7 +266,7 @@ def simulate_command(
         not_reached("simulate", reason or "the state left the finite numbers")
 
 
-def _print(spec_path: Path, parsed, samples: int, summary: dict, out: Path | None) -> None:
+def _print(spec_path: Path, parsed: Spec, samples: int, summary: dict, out: Path | None) -> None:
     table = Table(title=f"{spec_path.name}: {parsed.robot.name}, {samples} samples")
     table.add_column("metric")
     table.add_column("value", justify="right")

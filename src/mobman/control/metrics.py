@@ -54,7 +54,7 @@ def _path_length(points: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=-1)))
 
 
-def _excess(limits: np.ndarray, q) -> np.ndarray:
+def _excess(limits: np.ndarray, q: npt.ArrayLike) -> np.ndarray:
     """How far each coordinate of q (N × n_q) lies outside its [lower, upper] limits (0 inside)."""
     q = np.asarray(q, dtype=float)
     return np.maximum(limits[:, 0] - q, 0.0) + np.maximum(q - limits[:, 1], 0.0)

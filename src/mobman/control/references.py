@@ -34,7 +34,7 @@ from mobman.model.spatial import matmul, matvec
 TIMINGS = ("linear", "cubic", "quintic")
 
 
-def _vector(value, name: str, owner: str, size: int | None = None) -> np.ndarray:
+def _vector(value: npt.ArrayLike, name: str, owner: str, size: int | None = None) -> np.ndarray:
     arr = np.atleast_1d(np.asarray(value, dtype=float))
     if arr.ndim != 1 or (size is not None and arr.size != size):
         raise ModelError(
@@ -230,7 +230,7 @@ class FunctionReference(Reference):
         return jax.jvp(fn, (t,), (jnp.ones_like(t),))
 
 
-def _orientation(value, name: str, owner: str) -> np.ndarray:
+def _orientation(value: npt.ArrayLike, name: str, owner: str) -> np.ndarray:
     """A rotation matrix from a rotation vector (3 numbers) or a rotation matrix (3 × 3, orthonormal)."""
     arr = np.asarray(value, dtype=float)
     if arr.shape == (3,) and np.all(np.isfinite(arr)):

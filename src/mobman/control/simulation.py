@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import Callable, Iterator, Sequence
+from typing import Callable, Iterator, Sequence, cast
 
 import jax
 import jax.numpy as jnp
@@ -98,7 +98,7 @@ class SimulationResult:
         return replace(self, **{name: pick(getattr(self, name)) for name in batched})
 
 
-def _unicycle_exp(robot, q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
+def _unicycle_exp(robot: MobileManipulator, q: jnp.ndarray, u: jnp.ndarray) -> jnp.ndarray:
     """q ∘ exp(u) for the increment u = h X = (h η_p, Δq_a): an exact arc of a platform with a constant body
     twist (``platform.displace``), the joints moved by Δq_a."""
     n_p, n_e = robot.n_platform, robot.platform.n_eta
@@ -272,7 +272,17 @@ class _Setup:
         return 1 if (self.batch_law or self.batch_q) else 0
 
 
-def _setup(robot, task, law, reference, q0, duration, dt, measures, integrator) -> _Setup:
+def _setup(
+    robot: MobileManipulator,
+    task: Task | None,
+    law: Law | Sequence[Law],
+    reference: Reference,
+    q0: npt.ArrayLike,
+    duration: float,
+    dt: float,
+    measures: Sequence[str],
+    integrator: str,
+) -> _Setup:
     task = robot.task if task is None else task
     task.check(robot)
     if integrator not in INTEGRATORS:
@@ -289,7 +299,7 @@ def _setup(robot, task, law, reference, q0, duration, dt, measures, integrator) 
             raise InputError(f"{name} must be a finite number > 0 s, got {value!r}")
     n = int(round(duration / dt)) + 1
     batch_law = isinstance(law, (list, tuple))
-    laws = list(law) if batch_law else [law]
+    laws = list(law) if isinstance(law, (list, tuple)) else [cast(Law, law)]
     if not laws:
         raise InputError("law: give one law or a non-empty list of laws")
     if not all(isinstance(one, Law) for one in laws):

@@ -24,6 +24,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 from mobman import checks
 from mobman.errors import InputError, ModelError
@@ -36,7 +37,7 @@ class _AffineEnvelope:
         """(lower_0, lower_slope, upper_0, upper_slope)."""
         raise NotImplementedError
 
-    def limits(self, speed) -> tuple[np.ndarray, np.ndarray]:
+    def limits(self, speed: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """(lower(ω), upper(ω)) at the speeds ``speed`` (any shape)."""
         lower_0, lower_slope, upper_0, upper_slope = self.coefficients()
         speed = np.asarray(speed, dtype=float)

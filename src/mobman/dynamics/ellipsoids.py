@@ -248,7 +248,7 @@ def grasp_offsets(robot: MobileManipulator, q: npt.ArrayLike) -> jnp.ndarray:
     )
 
 
-def _check_held(robot: MobileManipulator, grasp: str, q) -> None:
+def _check_held(robot: MobileManipulator, grasp: str, q: npt.ArrayLike) -> None:
     if len(robot.arms) < 2:
         raise ModelError(
             f"{robot.name}: a held object needs two or more arms, the robot has {len(robot.arms)}"
@@ -264,7 +264,7 @@ def _check_held(robot: MobileManipulator, grasp: str, q) -> None:
             )
 
 
-def _scale(value, name: str) -> np.ndarray:
+def _scale(value: float | npt.ArrayLike, name: str) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if not np.all(np.isfinite(arr)) or np.any(arr < 0):
         raise InputError(f"{name} must be finite and ≥ 0, got {value!r}")
@@ -275,7 +275,9 @@ def _scale(value, name: str) -> np.ndarray:
 
 
 @partial(jax.jit, static_argnums=(0, 1, 2))
-def _kinematic(robot: MobileManipulator, task: Task, held: str | None, q, u_max):
+def _kinematic(
+    robot: MobileManipulator, task: Task, held: str | None, q: jax.Array, u_max: jax.Array
+) -> tuple[jax.Array, jax.Array]:
     t = actuator_map(robot, uses_wheels(robot))
 
     def one(q, u_max):
@@ -346,8 +348,15 @@ class _Terms:
 
 @partial(jax.jit, static_argnums=(0, 1, 2, 3, 4, 5))
 def _dynamic_terms(
-    model, task: Task, obj: HeldObject | None, grasp: str, wheels: bool, at_rest: bool, q, eta
-):
+    model: DynamicModel,
+    task: Task,
+    obj: HeldObject | None,
+    grasp: str,
+    wheels: bool,
+    at_rest: bool,
+    q: jax.Array,
+    eta: jax.Array,
+) -> tuple[jax.Array, ...]:
     from mobman.dynamics import equations, reduced
 
     robot = model.robot
@@ -432,7 +441,7 @@ def _t(a: np.ndarray) -> np.ndarray:
     return np.swapaxes(a, -1, -2)
 
 
-def _paper(terms: _Terms, tau_max: np.ndarray):
+def _paper(terms: _Terms, tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Eq. 31–38: τ = Λ_o a_o + μ_o with u̇ = J⁺(Wᵀ a_o − drift), h = W⁺(M_o a_o + c_o + g_o)."""
     j_plus, w_plus = np.linalg.pinv(terms.j), np.linalg.pinv(terms.w)
     lam = _solve(
@@ -473,7 +482,7 @@ def closed_chain_matrices(terms: _Terms) -> tuple[np.ndarray, np.ndarray]:
     return sol[..., :n], sol[..., n]
 
 
-def _exact(terms: _Terms, tau_max: np.ndarray):
+def _exact(terms: _Terms, tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The image of the torque ball |Z τ| ≤ 1 through the closed-chain forward map."""
     g, g0 = closed_chain_matrices(terms)
     matrix = g * tau_max[..., None, :]

@@ -41,6 +41,7 @@ from mobman.engine.batched import batched
 from mobman.errors import InputError
 from mobman.model import spatial
 from mobman.model.inertial import Wheel
+from mobman.model.platforms import WheelSite
 from mobman.model.robot import Frames, MobileManipulator
 
 
@@ -152,7 +153,7 @@ def body_jacobians(model: DynamicModel, q: jnp.ndarray, payload_mass: float | No
     return BodyJacobians(masses, jnp.concatenate(j_v), jnp.concatenate(j_w), inertia_world)
 
 
-def _driven_wheels(model: DynamicModel):
+def _driven_wheels(model: DynamicModel) -> tuple[WheelSite, ...]:
     return tuple(site for site in model.robot.platform.wheels() if site.actuator is not None)
 
 
@@ -161,7 +162,9 @@ def _spinning_wheel(model: DynamicModel) -> Wheel | None:
     return model.wheel if model.robot.platform.wheel_actuated else None
 
 
-def _tree(model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None):
+def _tree(
+    model: DynamicModel, q: jnp.ndarray, payload_mass: float | None = None
+) -> tuple[recursive.RigidInertia, list[recursive.Chain]]:
     """The model's kinematic tree at one configuration for :mod:`mobman.dynamics.recursive`: the inertia of
     the platform's bodies and one :class:`recursive.Chain` per arm (its joints' motion subspace columns and
     the inertia each joint moves, a payload added to its link's), all about the platform's reference point o
@@ -444,7 +447,7 @@ def validated_q(model: DynamicModel, q: npt.ArrayLike) -> np.ndarray | jax.Array
     return kinematics.validated_q(model.robot, q)
 
 
-def _q_dot(model: DynamicModel, q_dot, name: str = "q_dot"):
+def _q_dot(model: DynamicModel, q_dot: npt.ArrayLike, name: str = "q_dot") -> np.ndarray | jax.Array:
     """A validated rate (q̇ or q̈) in the full coordinates; errors name the argument."""
     try:
         return kinematics.validated_q(model.robot, q_dot)

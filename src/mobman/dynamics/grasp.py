@@ -30,7 +30,7 @@ from mobman.engine.batched import traced
 from mobman.errors import InputError
 
 
-def _offsets(offsets) -> jnp.ndarray:
+def _offsets(offsets: npt.ArrayLike) -> jnp.ndarray:
     """Grasp offsets checked at the public functions' boundary (a user's traced value passes; mobman's own
     traced code calls the ``_one`` functions)."""
     r: jax.Array | np.ndarray

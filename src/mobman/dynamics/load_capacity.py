@@ -116,7 +116,9 @@ def unit_payload_model(model: DynamicModel, payload: Payload | None = None) -> D
     return model.with_payload(template.scaled(1.0))
 
 
-def _affine_one(model: DynamicModel, q, eta, eta_dot):
+def _affine_one(
+    model: DynamicModel, q: jax.Array, eta: jax.Array, eta_dot: jax.Array
+) -> tuple[jax.Array, jax.Array, jax.Array]:
     """(τ0, τ1, ω) at one sample; ``model`` carries the unit-mass payload.
 
     With q̇ = S η, q̈ = S η̇ + Ṡ η and B = Sᵀ E: the Newton–Euler generalized forces of every body
@@ -157,7 +159,9 @@ def _evaluate(tau0, tau1, speed, coefficients):
 
 
 @partial(jax.jit, static_argnums=(0,))
-def _capacity(model: DynamicModel, q, eta, eta_dot, coefficients):
+def _capacity(
+    model: DynamicModel, q: jax.Array, eta: jax.Array, eta_dot: jax.Array, coefficients: jax.Array
+) -> tuple[jax.Array, ...]:
     tau0, tau1, speed = blocked(partial(_affine_one, model))(q, eta, eta_dot)
     return (tau0, tau1, speed) + _evaluate(tau0, tau1, speed, coefficients)
 
@@ -182,7 +186,9 @@ def load_torques(
     return np.asarray(tau0), np.asarray(tau1), np.asarray(speed)
 
 
-def _motion(model: DynamicModel, q, eta, eta_dot):
+def _motion(
+    model: DynamicModel, q: npt.ArrayLike, eta: npt.ArrayLike, eta_dot: npt.ArrayLike
+) -> tuple[np.ndarray | jax.Array, np.ndarray | jax.Array, np.ndarray | jax.Array]:
     q = eq.validated_q(model, q)
     eta = reduced.validated_eta(model, eta, "eta")
     eta_dot = reduced.validated_eta(model, eta_dot, "eta_dot")
@@ -256,7 +262,20 @@ def capacity_from_torques(
     return _result(names, t, *arrays, *out)
 
 
-def _result(names, t, tau0, tau1, speed, lower, upper, load, index, profile, margin, eps) -> LoadCapacity:
+def _result(
+    names: tuple[str, ...],
+    t: np.ndarray,
+    tau0: np.ndarray,
+    tau1: np.ndarray,
+    speed: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    load: np.ndarray,
+    index: np.ndarray,
+    profile: np.ndarray,
+    margin: np.ndarray,
+    eps: float | np.ndarray,
+) -> LoadCapacity:
     k, i = np.unravel_index(np.argmin(margin), margin.shape)
     if margin[k, i] < -eps:
         raise InfeasibleMotionError(

@@ -44,7 +44,9 @@ def zero_torque(t: jax.Array, q: jax.Array, eta: jax.Array) -> jnp.ndarray:
 
 
 @partial(jax.jit, static_argnums=(0, 3, 4))
-def _simulate(model: DynamicModel, q0, eta0, torque_fn: TorqueFn, steps: int, dt):
+def _simulate(
+    model: DynamicModel, q0: jax.Array, eta0: jax.Array, torque_fn: TorqueFn, steps: int, dt: float
+) -> tuple[jax.Array, jax.Array, jax.Array]:
     robot = model.robot
 
     def deriv(t, q, eta):

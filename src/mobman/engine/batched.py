@@ -34,11 +34,12 @@ import functools
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import Callable, TypeGuard
+from typing import Any, Callable, TypeGuard
 
 import jax
 import jax.numpy as jnp
 import numpy as np
+import numpy.typing as npt
 
 BLOCK = 128
 """Configurations per block on the CPU (64–128 are best for a Panda's J̄ and 6 × 6 eigenvalues)."""
@@ -133,7 +134,7 @@ def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1) -> Callable:
     return apply
 
 
-def _in_blocks(kernel: Callable, flat: list, size: int):
+def _in_blocks(kernel: Callable, flat: list, size: int) -> Any:
     """``kernel`` (vectorised) over ``size`` rows, BLOCK rows at a time, in one compiled loop. Each block is
     read in place and written into one output buffer; the last block is moved back to end at row ``size``
     (it recomputes a few rows of the previous one), so no padded copy of the inputs is made."""
@@ -178,7 +179,7 @@ def across_cores(core_ndims: dict[int, int], min_share: int | None = None) -> Ca
 
 def _shared_call(
     compiled: Callable, args: tuple, kwargs: dict, batch: tuple, flat: dict, share: int, starts: list
-):
+) -> Any:
     """``compiled`` on the shares ``flat[i][start : start + share]`` from the thread pool, each thread copying
     its results into the joint output buffers (the rows the last share recomputed are skipped)."""
 
@@ -203,7 +204,9 @@ def _shared_call(
     return jax.tree.map(lambda o: _as_jax(o.reshape(batch + o.shape[1:])), outs)
 
 
-def _share_plan(args: tuple, batched: tuple[tuple[int, int], ...], min_share: int):
+def _share_plan(
+    args: tuple, batched: tuple[tuple[int, int], ...], min_share: int
+) -> tuple[tuple[int, ...], dict[int, np.ndarray | jax.Array], int, list[int]] | None:
     """(batch shape, flattened batched arguments, share size, share starts), or None for one plain call.
 
     ``batched``: the (position, core dimensions) of the batched arguments. A small batch (one configuration
@@ -242,7 +245,7 @@ def _share_plan(args: tuple, batched: tuple[tuple[int, int], ...], min_share: in
     return batch, flat, share, [min(k * share, size - share) for k in range(workers)]
 
 
-def _take(x, start: int, size: int):
+def _take(x: np.ndarray | jax.Array, start: int, size: int) -> np.ndarray | jax.Array:
     """Rows start … start + size of x: a view of a NumPy array, one dynamic slice of a jax.Array (the same
     compiled slice for every start)."""
     if isinstance(x, jax.Array):
@@ -250,7 +253,7 @@ def _take(x, start: int, size: int):
     return x[start : start + size]
 
 
-def _aligned_empty(shape: tuple, dtype) -> np.ndarray:
+def _aligned_empty(shape: tuple, dtype: npt.DTypeLike) -> np.ndarray:
     """An uninitialised NumPy array whose data start on a 64-byte boundary, so that JAX can take it over
     without a copy (:func:`_as_jax`)."""
     nbytes = math.prod(shape) * np.dtype(dtype).itemsize

@@ -31,6 +31,7 @@ still get their exact derivative.
 from __future__ import annotations
 
 from functools import lru_cache, partial, reduce
+from typing import Callable, Literal, overload
 
 import jax
 import jax.numpy as jnp
@@ -45,6 +46,12 @@ precision up to n = 8, see tests)."""
 
 MAX_JACOBI_SIZE = 8
 """Larger matrices go to ``jnp.linalg.eigh`` (the unrolled program grows as n³ · sweeps)."""
+
+_Eigen = tuple[jnp.ndarray, jnp.ndarray | None]
+"""Eigenvalues (..., n) and eigenvectors (..., n, n), or None where they were not asked for."""
+
+_Sweep = tuple[list[jnp.ndarray], list[jnp.ndarray]]
+"""The Jacobi state: the upper triangle of A and the entries of V (empty without eigenvectors)."""
 
 
 def _soa(a: jnp.ndarray) -> jnp.ndarray:
@@ -88,7 +95,7 @@ def round_robin_pairs(n: int) -> tuple[tuple[int, int], ...]:
     return tuple(pairs)
 
 
-def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
+def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int) -> _Eigen:
     """Unsorted eigenvalues (..., n) and, if ``vectors``, eigenvectors (..., n, n) (columns).
 
     The state is the upper triangle of A (and V) as separate batch arrays; one sweep visits every pair
@@ -142,7 +149,9 @@ def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int):
     return w, jnp.stack([jnp.stack(v[r * n : (r + 1) * n], axis=-1) for r in range(n)], axis=-2)
 
 
-def _sweep_until_converged(sweep, init, diagonal: list[int], off: list[int], sweeps: int):
+def _sweep_until_converged(
+    sweep: Callable[[int, _Sweep], _Sweep], init: _Sweep, diagonal: list[int], off: list[int], sweeps: int
+) -> _Sweep:
     """Jacobi sweeps until the diagonal of every matrix is within eps · ‖A‖_F of its eigenvalues, at most
     ``sweeps``. With A = D + E (E the off-diagonal part, ε = ‖E‖_F; ‖A‖_F is unchanged by the rotations):
 
@@ -181,20 +190,20 @@ def _sweep_until_converged(sweep, init, diagonal: list[int], off: list[int], swe
     return jax.lax.while_loop(unconverged, step, (0, init))[1]
 
 
-def _lapack(a: jnp.ndarray, vectors: bool):
+def _lapack(a: jnp.ndarray, vectors: bool) -> _Eigen:
     """LAPACK's solver on the upper triangle of a, reordered to descending eigenvalues (LAPACK's are
     ascending: no sorting network needed)."""
     u, w = jax.lax.linalg.eigh(a, lower=False, symmetrize_input=False)
     return w[..., ::-1], (u[..., ::-1] if vectors else None)
 
 
-def _jacobi_sorted(a: jnp.ndarray, vectors: bool, sweeps: int):
+def _jacobi_sorted(a: jnp.ndarray, vectors: bool, sweeps: int) -> _Eigen:
     w, v = _jacobi(a, vectors, sweeps)
     return (_sort_descending(w), None) if v is None else _sort_descending(w, v)
 
 
 @lru_cache(maxsize=None)
-def _one_or_many(vectors: bool, sweeps: int):
+def _one_or_many(vectors: bool, sweeps: int) -> Callable[[jnp.ndarray], _Eigen]:
     """Eigen-solver of one matrix that switches algorithm under ``vmap``: a single n × n matrix goes to LAPACK
     (one library call, where the unrolled Jacobi program would cost about a hundred small XLA kernels), a
     batch of them to the elementwise Jacobi program (where LAPACK would loop over tiny matrices)."""
@@ -212,7 +221,13 @@ def _one_or_many(vectors: bool, sweeps: int):
     return solve
 
 
-def _eigh_descending(a: jnp.ndarray, vectors: bool, sweeps: int):
+@overload
+def _eigh_descending(
+    a: jnp.ndarray, vectors: Literal[True], sweeps: int
+) -> tuple[jnp.ndarray, jnp.ndarray]: ...
+@overload
+def _eigh_descending(a: jnp.ndarray, vectors: Literal[False], sweeps: int) -> tuple[jnp.ndarray, None]: ...
+def _eigh_descending(a: jnp.ndarray, vectors: bool, sweeps: int) -> _Eigen:
     """Eigenvalues (..., n), descending, and eigenvectors (..., n, n) or None, by the solver that suits the
     shape and backend (module notes)."""
     n = a.shape[-1]
@@ -223,7 +238,13 @@ def _eigh_descending(a: jnp.ndarray, vectors: bool, sweeps: int):
     return _jacobi_sorted(a, vectors, sweeps)
 
 
-def _sort_descending(w: jnp.ndarray, v: jnp.ndarray | None = None):
+@overload
+def _sort_descending(w: jnp.ndarray, v: None = None) -> jnp.ndarray: ...
+@overload
+def _sort_descending(w: jnp.ndarray, v: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray]: ...
+def _sort_descending(
+    w: jnp.ndarray, v: jnp.ndarray | None = None
+) -> jnp.ndarray | tuple[jnp.ndarray, jnp.ndarray]:
     """Sort the last axis of w in descending order, and the columns of v (..., n, n) with it, by an
     odd–even transposition network (elementwise selects: fuses with the solver, unlike a general sort)."""
     n = w.shape[-1]

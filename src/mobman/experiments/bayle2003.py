@@ -26,11 +26,13 @@ import numpy as np
 
 from mobman import kinematics
 from mobman.control import criteria, laws, metrics, references, simulate
+from mobman.control.simulation import SimulationResult
 from mobman.experiments.report import Reproduction
 from mobman.io import trajectories
 from mobman.io.output import save_figure
 from mobman.model import robots
-from mobman.model.tasks import Position
+from mobman.model.robot import MobileManipulator
+from mobman.model.tasks import Position, Task
 
 TITLE = "Bayle, Fourquet & Renaud (2003): manipulability-based redundancy resolution (Fig. 5 and 6)"
 
@@ -58,7 +60,7 @@ def _fraction_below(values: np.ndarray, t: np.ndarray, threshold: float, transie
     return float(np.mean(values[t >= transient] < threshold))
 
 
-def _conditioning(r) -> dict:
+def _conditioning(r: SimulationResult) -> dict:
     """σ_min of J̄ (the matrix the law inverts) at the start, the end and its minimum along the run, and the
     number of damped steps."""
     sigma = r.info["sigma_min"]
@@ -70,7 +72,7 @@ def _conditioning(r) -> dict:
     }
 
 
-def _law(k: float, criterion) -> laws.BaylePseudoInverse:
+def _law(k: float, criterion: criteria.Criterion) -> laws.BaylePseudoInverse:
     return laws.BaylePseudoInverse(
         W=SETTINGS["W"],
         k=k,
@@ -109,7 +111,7 @@ def _fig6(robot, task, q0, duration, dt):
     return ref, alpha, (x0, x1), result
 
 
-def _figures(out: Path, robot, task, fig5, fig6) -> list[Path]:
+def _figures(out: Path, robot: MobileManipulator, task: Task, fig5: tuple, fig6: tuple) -> list[Path]:
     from mobman.viz import plot_ellipses, plot_paths, plot_timeseries
 
     paths = []

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.figure import Figure
 
 from mobman import kinematics as K
@@ -276,7 +277,7 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     return Reproduction(NAME, TITLE, results, report(robot, results, dt), figures)
 
 
-def _fmt(v) -> str:
+def _fmt(v: npt.ArrayLike) -> str:
     return "(" + ", ".join(f"{x:.4f}" for x in np.asarray(v)) + ")"
 
 

@@ -121,7 +121,9 @@ def run(out: Path, quick: bool = False) -> Reproduction:
     return Reproduction("tchon2002", TITLE, runs, report, figures)
 
 
-def _motions(s: PlanningSetting, names: list[str], q0: np.ndarray, run_key, batch) -> list:
+def _motions(
+    s: PlanningSetting, names: list[str], q0: np.ndarray, run_key: tuple[str, float | str], batch: BatchResult
+) -> list:
     """The planned motion from each start with the first algorithm run."""
     algorithm, step = run_key
     motions = []
@@ -153,7 +155,9 @@ def _conditioning(s: PlanningSetting, z0: np.ndarray, q0: np.ndarray, D: np.ndar
     }
 
 
-def _figures(out: Path, s: PlanningSetting, names, q0, batches: dict[tuple, BatchResult]) -> list[Path]:
+def _figures(
+    out: Path, s: PlanningSetting, names: list[str], q0: np.ndarray, batches: dict[tuple, BatchResult]
+) -> list[Path]:
     """Figs. 2–4 (paths of one run each, when it was run) and figs. 5–7 (convergence of every run per
     start)."""
     figures = []

@@ -20,10 +20,11 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 from matplotlib.figure import Figure
 
 from mobman import kinematics
-from mobman.dynamics import yamamoto_model
+from mobman.dynamics import DynamicModel, yamamoto_model
 from mobman.dynamics.ellipsoids import Ellipsoid, Grasp, dynamic_ellipsoid, kinematic_ellipsoid
 from mobman.dynamics.grasp import HeldObject
 from mobman.experiments.report import Reproduction
@@ -106,7 +107,16 @@ def _record(kind: str, angle: float, scale: float, e: Ellipsoid) -> dict:
     }
 
 
-def _figure(robot, configs, ellipses, scales, unit: str, draw_scale: float, title: str, what: str) -> Figure:
+def _figure(
+    robot: MobileManipulator,
+    configs: dict[float, np.ndarray],
+    ellipses: dict[float, Ellipsoid],
+    scales: np.ndarray,
+    unit: str,
+    draw_scale: float,
+    title: str,
+    what: str,
+) -> Figure:
     from matplotlib import colormaps
 
     from mobman.viz import draw_robot, frame_points
@@ -136,11 +146,13 @@ def _figure(robot, configs, ellipses, scales, unit: str, draw_scale: float, titl
     return fig
 
 
-def _split(e: Ellipsoid, index) -> Ellipsoid:
+def _split(e: Ellipsoid, index: int | tuple[int, ...]) -> Ellipsoid:
     return Ellipsoid(e.center[index], e.matrix[index], e.names, e.feasible[index])
 
 
-def _ellipses(model, q, speed_scales, torque_scales, grasp: Grasp) -> dict:
+def _ellipses(
+    model: DynamicModel, q: np.ndarray, speed_scales: np.ndarray, torque_scales: np.ndarray, grasp: Grasp
+) -> dict:
     """Fig. 3 and Fig. 4 ellipsoids for one grasp, batched over (angle, scale): one compilation per kind."""
     robot, obj, limits = model.robot, held_object(), torque_limits(model.robot)
     common: dict[str, Any] = {"obj": obj, "grasp": grasp}
@@ -154,7 +166,7 @@ def _ellipses(model, q, speed_scales, torque_scales, grasp: Grasp) -> dict:
     }
 
 
-def _records(e: dict, speed_scales, torque_scales) -> tuple[list, list, dict]:
+def _records(e: dict, speed_scales: np.ndarray, torque_scales: np.ndarray) -> tuple[list, list, dict]:
     """(ellipses, dynamic_exact, fixed_dual_arm) records of one grasp; scale 0 of the kinematic batch is the
     fixed dual arm."""
     records, exact_records = [], []
@@ -280,7 +292,7 @@ UNCHANGED = 1e-6  # "unchanged": relative change of a semi-axis below this (roun
 METHODS = {"paper": "paper eq. 31–38", "exact": "exact image"}
 
 
-def _row(records, kind: str, angle: float, scale: float) -> dict:
+def _row(records: list[dict], kind: str, angle: float, scale: float) -> dict:
     (row,) = [
         r
         for r in records
@@ -289,7 +301,7 @@ def _row(records, kind: str, angle: float, scale: float) -> dict:
     return row
 
 
-def _series(records, kind: str, angle: float, key: str) -> tuple[np.ndarray, np.ndarray]:
+def _series(records: list[dict], kind: str, angle: float, key: str) -> tuple[np.ndarray, np.ndarray]:
     """(platform scales in increasing order, the record's ``key`` at each)."""
     rows = sorted(
         (r for r in records if r["kind"] == kind and r["object_angle_deg"] == angle),
@@ -298,15 +310,15 @@ def _series(records, kind: str, angle: float, key: str) -> tuple[np.ndarray, np.
     return np.array([r["platform_scale"] for r in rows]), np.array([r[key] for r in rows])
 
 
-def _rel(a, b) -> float:
+def _rel(a: npt.ArrayLike, b: npt.ArrayLike) -> float:
     return float(np.max(np.abs(np.asarray(a) - np.asarray(b)) / np.abs(np.asarray(b))))
 
 
-def _claim(text: str, holds: bool | np.bool_, summary: str, **numbers) -> dict:
+def _claim(text: str, holds: bool | np.bool_, summary: str, **numbers: Any) -> dict:
     return {"claim": text, "holds": bool(holds), "summary": summary, "numbers": numbers}
 
 
-def _claims(records, exact_records, fixed, grasp: str) -> dict:
+def _claims(records: list[dict], exact_records: list[dict], fixed: dict, grasp: str) -> dict:
     """Each statement of §4.2–4.3 checked on the ellipses of one grasp (semi-axes of the (x_o, y_o) ellipse;
     ``extents`` are its half-widths along the platform's heading x and lateral y; by the mirror symmetry the
     ellipses are aligned with x and y). Returns {id: {claim, holds, summary, numbers}}; the ids of the point
@@ -408,7 +420,7 @@ TYPOS = [
 ]
 
 
-def _report(settings, claims, records, exact_records) -> str:
+def _report(settings: dict, claims: dict, records: list[dict], exact_records: list[dict]) -> str:
     posture = settings["posture_deg"]
     lines = [
         "## Settings",

@@ -45,7 +45,7 @@ from mobman.errors import InputError
 from mobman.io import spec as fields
 from mobman.model import robots
 from mobman.model.arm import Arm
-from mobman.model.platforms import platform_class, platform_kinds
+from mobman.model.platforms import Platform, platform_class, platform_kinds
 from mobman.model.robot import MobileManipulator, Mount
 from mobman.model.spatial import transform
 from mobman.model.tasks import Position
@@ -99,7 +99,7 @@ def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
     return arm, fields.build(f"{field}.mount", Mount, x=mount[0], y=mount[1], z=mount[2], yaw=mount[3])
 
 
-def _platform(entries: dict):
+def _platform(entries: dict) -> Platform:
     cls = fields.kind(entries, "platform", {kind: platform_class(kind) for kind in platform_kinds()})
     parameters = tuple(f.name for f in dataclasses.fields(cls) if f.init)
     fields.keys(entries, "platform", ("kind", *parameters))

@@ -69,6 +69,7 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
+import numpy.typing as npt
 
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
@@ -162,7 +163,7 @@ class UrdfModel:
 # --- reading ---------------------------------------------------------------------------------------
 
 
-def _parse(path) -> tuple[Any, Path]:
+def _parse(path: str | os.PathLike[str]) -> tuple[Any, Path]:
     import yourdfpy
 
     file = Path(path)
@@ -213,11 +214,11 @@ def _rodrigues(axis: np.ndarray, angle: float) -> np.ndarray:
     return np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * k @ k
 
 
-def _origin(joint) -> np.ndarray:
+def _origin(joint: Any) -> np.ndarray:
     return np.eye(4) if joint.origin is None else np.asarray(joint.origin, dtype=float)
 
 
-def _axis(joint) -> np.ndarray:
+def _axis(joint: Any) -> np.ndarray:
     axis = np.array([1.0, 0.0, 0.0]) if joint.axis is None else np.asarray(joint.axis, dtype=float)
     norm = np.linalg.norm(axis)
     if not norm > 0:
@@ -225,7 +226,7 @@ def _axis(joint) -> np.ndarray:
     return axis / norm
 
 
-def _limit(value) -> float | None:
+def _limit(value: float | None) -> float | None:
     return None if value is None or not value > 0 else float(value)
 
 
@@ -240,7 +241,7 @@ class _Tree:
     root: str
 
     @classmethod
-    def of(cls, robot) -> "_Tree":
+    def of(cls, robot: Any) -> "_Tree":
         joints = {j.name: j for j in robot.joints}
         parent_joint = {j.child: j for j in robot.joints}
         children: dict = {}
@@ -316,7 +317,9 @@ def _lump(parts: list[tuple[float, np.ndarray, np.ndarray]]) -> tuple[float, np.
     return mass, com, 0.5 * (inertia + inertia.T)
 
 
-def _inertial_parts(tree: _Tree, links: list[str], frame: np.ndarray, poses) -> list:
+def _inertial_parts(
+    tree: _Tree, links: list[str], frame: np.ndarray, poses: Mapping[str, np.ndarray]
+) -> list:
     """The inertials of ``links`` expressed in the frame of pose ``frame`` (root coordinates)."""
     inv = np.linalg.inv(frame)
     parts = []
@@ -333,7 +336,7 @@ def _inertial_parts(tree: _Tree, links: list[str], frame: np.ndarray, poses) -> 
     return parts
 
 
-def _color(visual, materials: dict) -> tuple[float, float, float, float]:
+def _color(visual: Any, materials: dict) -> tuple[float, float, float, float]:
     material = visual.material
     if material is not None and material.color is None and material.name in materials:
         material = materials[material.name]
@@ -343,7 +346,15 @@ def _color(visual, materials: dict) -> tuple[float, float, float, float]:
     return r, g, b, a
 
 
-def _visuals(tree: _Tree, links: list[str], frame, poses, directory: str, materials, missing: list) -> tuple:
+def _visuals(
+    tree: _Tree,
+    links: list[str],
+    frame: np.ndarray,
+    poses: Mapping[str, np.ndarray],
+    directory: str,
+    materials: dict,
+    missing: list,
+) -> tuple:
     """The visual shapes of ``links`` in the frame of pose ``frame``; missing meshes are warned about."""
     from yourdfpy import filename_handler_magic
 
@@ -382,7 +393,7 @@ def _visuals(tree: _Tree, links: list[str], frame, poses, directory: str, materi
     return tuple(shapes)
 
 
-def _geometry_radius(link, axle_local: np.ndarray, directory: str) -> float | None:
+def _geometry_radius(link: Any, axle_local: np.ndarray, directory: str) -> float | None:
     """Radius of a wheel link about its axle (in the link frame) from its collision, else visual, geometry: a
     sphere's or a cylinder's along the axle radius, a mesh's half width across the axle."""
     from yourdfpy import filename_handler_magic
@@ -418,21 +429,31 @@ class _PlatformReader:
     UrdfReader`): wheel-joint candidates are the continuous joints off the chains hanging from the platform."""
 
     def __init__(
-        self, tree, passive, groups, poses, base_pose, directory: str, wheels, radius, half_track, options
-    ):
+        self,
+        tree: _Tree,
+        passive: list,
+        groups: Mapping[str, tuple[int, int] | None],
+        poses: Mapping[str, np.ndarray],
+        base_pose: np.ndarray,
+        directory: str,
+        wheels: tuple[str, str] | None,
+        radius: float | None,
+        half_track: float | None,
+        options: Mapping[str, float],
+    ) -> None:
         self.tree, self.poses, self.directory = tree, poses, directory
         self.inv = np.linalg.inv(base_pose)
         self.candidates = [j for j in passive if j.type == "continuous" and groups[j.parent] is None]
         self.on_platform = [j for j in passive if groups[j.parent] is None]
         self.wheels, self.radius, self.track, self.options = wheels, radius, half_track, options
 
-    def _centre_axis(self, joint) -> tuple[np.ndarray, np.ndarray]:
+    def _centre_axis(self, joint: Any) -> tuple[np.ndarray, np.ndarray]:
         """Centre and axle of a wheel joint in the base frame (the joint frame after its motion is the wheel
         link's frame; its pose at the reference configuration)."""
         t = self.inv @ self.poses[joint.child]
         return t[:3, 3], t[:3, :3] @ _axis(joint)
 
-    def _common_axle(self, a, b) -> bool:
+    def _common_axle(self, a: Any, b: Any) -> bool:
         (pa, axa), (pb, axb) = self._centre_axis(a), self._centre_axis(b)
         d = pb - pa
         separation = np.linalg.norm(d)
@@ -447,11 +468,11 @@ class _PlatformReader:
         """The wheel joint ``name`` with its centre."""
         return self._wheel(self.tree.joints[name])
 
-    def _wheel(self, joint) -> UrdfWheel:
+    def _wheel(self, joint: Any) -> UrdfWheel:
         x, y, z = (float(v) for v in self._centre_axis(joint)[0])
         return UrdfWheel(joint.name, x, y, z)
 
-    def _sides(self, a, b) -> tuple[UrdfWheel, UrdfWheel]:
+    def _sides(self, a: Any, b: Any) -> tuple[UrdfWheel, UrdfWheel]:
         """(right, left) of an axle, ModelError unless it is along the base's y axis."""
         (pa, axis), (pb, _) = self._centre_axis(a), self._centre_axis(b)
         right, left = (a, b) if pa[1] < pb[1] else (b, a)
@@ -544,7 +565,7 @@ class _PlatformReader:
         return cls(**{**{k: v for k, v in values.items() if k in allowed}, **self.options})
 
 
-def _spin_inertia(tree, joint, poses) -> float:
+def _spin_inertia(tree: _Tree, joint: Any, poses: Mapping[str, np.ndarray]) -> float:
     """a_wᵀ I a_w of the wheel link (and what is fixed to it) about the axle through its centre of mass."""
     frame = poses[joint.child]
     parts = _inertial_parts(tree, [joint.child], frame, poses)
@@ -740,7 +761,7 @@ def _platform_summary(reading: UrdfPlatform, reader: _PlatformReader) -> dict:
     )
 
 
-def _platform_efforts(platform: Platform, wheel_joints) -> list[float | None]:
+def _platform_efforts(platform: Platform, wheel_joints: Sequence[Any]) -> list[float | None]:
     """Effort limits of the platform's actuators: per actuator the sum of its wheels' joint efforts (None
     where one is missing); None for a platform without driven wheels."""
     if not platform.wheel_actuated:
@@ -795,7 +816,7 @@ def inspect_urdf(path: str | os.PathLike[str], **options: Any) -> UrdfSummary:
 # --- writing ---------------------------------------------------------------------------------------
 
 
-def _u_inertial(mass: float, com, inertia) -> "object":
+def _u_inertial(mass: float, com: npt.ArrayLike, inertia: npt.ArrayLike) -> "object":
     from yourdfpy import Inertial
 
     origin = np.eye(4)
@@ -826,7 +847,14 @@ def _u_visuals(visuals: Sequence[Visual]) -> list:
     return shapes
 
 
-def _wheel(name: str, parent: str, xyz, radius: float, speed, wheel: Wheel | None):
+def _wheel(
+    name: str,
+    parent: str,
+    xyz: tuple[float, float, float],
+    radius: float,
+    speed: float | None,
+    wheel: Wheel | None,
+) -> tuple[Any, Any]:
     """A continuous wheel joint turning about the platform's y axis, with its link (cylinder collision)."""
     from yourdfpy import Collision, Cylinder, Geometry, Limit, Link
     from yourdfpy import Joint as UJoint
@@ -847,7 +875,9 @@ def _wheel(name: str, parent: str, xyz, radius: float, speed, wheel: Wheel | Non
     return link, joint
 
 
-def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
+def _platform_urdf(
+    robot: MobileManipulator, body: PlatformBody | None, wheel: Wheel | None
+) -> tuple[list, list]:
     """The platform link and the joints of the platform's URDF form (:meth:`Platform.urdf_joints`)."""
     from yourdfpy import Joint as UJoint
     from yourdfpy import Limit, Link
@@ -881,7 +911,7 @@ def _platform_urdf(robot: MobileManipulator, body, wheel) -> tuple[list, list]:
     return links, joints
 
 
-def _limit_value(value: float):
+def _limit_value(value: float) -> float | None:
     return None if not math.isfinite(value) else float(value)
 
 

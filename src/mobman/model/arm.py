@@ -271,7 +271,7 @@ class Arm:
         return cls(tuple(joints), tool, _coupling(coupling), name)
 
 
-def _table(table, label: str) -> list[tuple[float, ...]]:
+def _table(table: Sequence[Sequence[float]], label: str) -> list[tuple[float, ...]]:
     rows = [tuple(float(v) for v in row) for row in table]
     if not rows or any(len(r) != 4 for r in rows):
         raise ModelError(f"{label} table: each row needs 4 numbers")
@@ -280,11 +280,11 @@ def _table(table, label: str) -> list[tuple[float, ...]]:
     return rows
 
 
-def _kinds(kinds, n: int) -> list[JointKind]:
+def _kinds(kinds: Sequence[JointKind] | str | None, n: int) -> list[JointKind]:
     if kinds is None:
         return ["revolute"] * n
     if isinstance(kinds, str):
-        mapping = {"R": "revolute", "P": "prismatic"}
+        mapping: dict[str, JointKind] = {"R": "revolute", "P": "prismatic"}
         if any(k not in mapping for k in kinds.upper()):
             raise ModelError(f"joint kinds {kinds!r}: use letters R (revolute) and P (prismatic)")
         kinds = [mapping[k] for k in kinds.upper()]
@@ -294,7 +294,16 @@ def _kinds(kinds, n: int) -> list[JointKind]:
     return kinds
 
 
-def _joint(i, kind, origin, offset, names, limits, velocity_limits, inertials) -> Joint:
+def _joint(
+    i: int,
+    kind: JointKind,
+    origin: Transform,
+    offset: float,
+    names: Sequence[str] | None,
+    limits: Sequence[tuple[float, float]] | None,
+    velocity_limits: Sequence[float] | None,
+    inertials: Sequence[LinkInertial | None] | None,
+) -> Joint:
     lower, upper = (-math.inf, math.inf) if limits is None else limits[i]
     return Joint(
         kind=kind,
@@ -309,7 +318,7 @@ def _joint(i, kind, origin, offset, names, limits, velocity_limits, inertials) -
     )
 
 
-def _coupling(coupling) -> tuple[float, ...] | None:
+def _coupling(coupling: Sequence[float] | None) -> tuple[float, ...] | None:
     return None if coupling is None else tuple(float(v) for v in np.asarray(coupling, dtype=float).ravel())
 
 

@@ -41,7 +41,7 @@ def _check_finite(owner: str, **values: float) -> None:
         checks.finite(value, name, owner)
 
 
-def _translation(x: float = 0.0, y: float = 0.0, z: float = 0.0):
+def _translation(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> spatial.Transform:
     return spatial.transform(None, (x, y, z))
 
 

@@ -136,7 +136,14 @@ def null_space_projector(J: jnp.ndarray) -> jnp.ndarray:
     return jnp.eye(J.shape[1]) - inverse @ J
 
 
-def _direction(setting: PlanningSetting, kernel: Kernel, algorithm, z, q0, y_d):
+def _direction(
+    setting: PlanningSetting,
+    kernel: Kernel,
+    algorithm: jax.Array,
+    z: jax.Array,
+    q0: jax.Array,
+    y_d: jax.Array,
+) -> tuple[jax.Array, jax.Array, jax.Array, jax.Array]:
     """e = K(z) − y_d, the Jacobian J, the θ-flow direction at z (for γ = 1) and the reciprocal condition of
     the Gram matrix inverted (1 for the adjoint). K is integrated with ``setting.steps``, the variational
     system with ``setting.jacobian_steps``; ``algorithm`` indexes ``ALGORITHMS`` (a traced ``lax.switch``)."""

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import NamedTuple, TypeVar
+from typing import Any, Callable, NamedTuple, TypeVar
 
 import jax
 import jax.numpy as jnp
@@ -140,7 +140,9 @@ class Variational(NamedTuple):
     q_T: jnp.ndarray
 
 
-def _output_derivatives(setting: PlanningSetting, task: Task, q_T, x) -> tuple[jnp.ndarray, jnp.ndarray]:
+def _output_derivatives(
+    setting: PlanningSetting, task: Task, q_T: jnp.ndarray, x: jnp.ndarray
+) -> tuple[jnp.ndarray, jnp.ndarray]:
     """C = ∂task/∂q_p and D = ∂task/∂x at (q_p(T), x) (eq. 6; C̄, D̄ of eq. 19 for an extension h)."""
     C = jax.jacfwd(lambda q: _output(setting, task, q, x))(q_T)
     D = jax.jacfwd(lambda xx: _output(setting, task, q_T, xx))(x)
@@ -173,7 +175,9 @@ def _basis_grid(setting: PlanningSetting) -> jnp.ndarray:
     )
 
 
-def _integrate(setting: PlanningSetting, rhs, state, record: bool = False):
+def _integrate(
+    setting: PlanningSetting, rhs: Callable[[Any, jax.Array], Any], state: Any, record: bool = False
+) -> tuple[Any, Any]:
     """Fixed-step Runge–Kutta (``setting.method``) of d state/dt = rhs(state, φ(t)) over [0, T], the basis
     values φ at the stage times given to the driver as its input.
 

@@ -11,6 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import numpy.typing as npt
+from matplotlib.figure import Figure
 
 from mobman.io.output import save_figure  # noqa: E402
 from mobman.planning.endpoint import PlanningSetting, trajectory  # noqa: E402
@@ -61,7 +62,7 @@ def plot_convergence(
     return _save(fig, path)
 
 
-def _save(fig, path: Path) -> Path:
+def _save(fig: Figure, path: Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()

@@ -9,7 +9,7 @@ projection on the floor).
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import Mapping
+from typing import Callable, Mapping
 
 import jax
 import numpy as np
@@ -39,7 +39,7 @@ def finish_plane(ax: Axes, title: str | None = None) -> None:
 
 
 @lru_cache(maxsize=32)
-def _frames_fn(robot: MobileManipulator):
+def _frames_fn(robot: MobileManipulator) -> Callable:
     def one(q):
         f = robot.frames(q)
         return f.platform, f.mounts, f.links
@@ -70,7 +70,9 @@ def _platform_size(robot: MobileManipulator) -> tuple[float, float, float]:
     return length, 1.6 * half_track, radius
 
 
-def _rectangle(center, heading, length, width, rear: float) -> np.ndarray:
+def _rectangle(
+    center: npt.ArrayLike, heading: npt.ArrayLike, length: float, width: float, rear: float
+) -> np.ndarray:
     """Corners of a rectangle of the given size, ``rear`` behind ``center`` along ``heading``."""
     u = np.asarray(heading) / np.linalg.norm(heading)
     n = np.array([-u[1], u[0]])

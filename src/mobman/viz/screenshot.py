@@ -6,11 +6,15 @@ import io
 import shutil
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from PIL import Image
 
 from mobman.errors import InputError
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Page
 
 CHROMIUM_ARGS = ("--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader")
 """Headless chromium flags: no sandbox (containers, root), software WebGL (no GPU needed)."""
@@ -49,7 +53,7 @@ def screenshot(
     return path
 
 
-def _settled(page, timeout: float) -> bytes:
+def _settled(page: Page, timeout: float) -> bytes:
     """A screenshot that differs from the one taken half a second before in under 0.1 % of its pixels (the
     scene has arrived and been drawn; the renderer's last refinements may still touch a few pixels)."""
     deadline = time.monotonic() + timeout

@@ -333,7 +333,7 @@ def _platform_shapes(robot: MobileManipulator) -> tuple[tuple[Visual, ...], floa
     return tuple(shapes), -h / 2 - max((w.radius for w in wheels), default=h)
 
 
-def _pose(r: np.ndarray, p) -> tuple[float, ...]:
+def _pose(r: np.ndarray, p: npt.ArrayLike) -> tuple[float, ...]:
     t = np.eye(4)
     t[:3, :3], t[:3, 3] = r, p
     return tuple(t.ravel())
@@ -624,7 +624,7 @@ class Viewer:
                 slider.on_update(self._on_joint_slider)
                 self._sliders.append(slider)
 
-    def _on_joint_slider(self, _event) -> None:
+    def _on_joint_slider(self, _event: viser.GuiEvent) -> None:
         if self._syncing:
             return
         self.show(np.array([s.value for s in self._sliders]))

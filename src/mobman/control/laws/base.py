@@ -186,7 +186,7 @@ class Law:
         object.__setattr__(self, "damping", np.float64(self.damping))
         object.__setattr__(self, "damping_threshold", np.float64(self.damping_threshold))
 
-    def _limits(self, robot) -> np.ndarray | None:
+    def _limits(self, robot: MobileManipulator) -> np.ndarray | None:
         limits = robot.velocity_limits
         if limits is None and (self.normalized or self.saturate):
             option = "normalized" if self.normalized else "saturate"
