@@ -122,3 +122,20 @@ def test_euler_angles_closed_form_equals_the_numerical_angles(sequence):
     closed = np.stack([np.asarray(fn(*row), dtype=float).reshape(-1) for row in q])
     wrapped = np.angle(np.exp(1j * (closed - numeric)))
     np.testing.assert_allclose(wrapped[regular], 0.0, atol=1e-9)
+
+
+def test_a_stacks_reduced_jacobian_is_j_s_formed_part_by_part():
+    """Task.reduced_jacobian = J S (Bayle eq. 2); a stack forms it part by part, with the same numbers, for a
+    stack that mixes a task with its own (autodiff) Jacobian and closed-form ones."""
+    import jax
+
+    robot = robots.manus_platform()
+    task = stack(Position("xyz"), EulerAngles("ZYX"), JointSum())
+    q = sample_configurations(robot, 6, seed=4)
+    q[:, 2] = [*SPECIAL, 0.7]  # headings 0, ±π/2, ±π
+    reduced = jax.jit(lambda x: task.reduced_jacobian(robot, x, robot.frames(x)))
+    for qi in q:
+        frames = robot.frames(qi)
+        by_parts = reduced(qi)
+        whole = np.asarray(task.jacobian(robot, qi, frames)) @ np.asarray(robot.S(qi))
+        np.testing.assert_allclose(by_parts, whole, rtol=0, atol=1e-13)
