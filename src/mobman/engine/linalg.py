@@ -18,7 +18,7 @@ problems come from their single exact rotation, their eigenvalues from the close
 operations with their gradient, for the Gram matrices of planar tasks); accelerators always use Jacobi.
 
 Convergence of cyclic Jacobi is quadratic once the off-diagonal part is small; :data:`SWEEPS` sweeps reach
-machine precision for the matrices met in kinematics (n ≤ 8; tested against LAPACK in ``tests/test_linalg.py``).
+machine precision for the matrices met in kinematics (n ≤ 8; tested against LAPACK in ``tests/test_engine_linalg.py``).
 Eigenvalues are accurate to about ``eps · ‖A‖`` in absolute terms (the usual bound of a backward-stable method).
 
 Derivatives: :func:`eigvalsh` has a custom JVP, dλ_i = v_iᵀ dA v_i (first-order perturbation of a symmetric
