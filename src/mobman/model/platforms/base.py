@@ -190,10 +190,10 @@ class Platform(ABC):
     # --- inertia --------------------------------------------------------------------------------------
 
     def inertia_bodies(self, body: PlatformBody, wheel: Wheel | None) -> tuple[RigidPart, ...]:
-        """The platform's bodies for the dynamic model (the parameters of Yamamoto & Yun Table 2): the body (m_c, I_c
-        about the vertical through its centre of mass) and, for driven wheels, each wheel of :meth:`wheels`
-        with an actuator at its centre (m_w, I_m about its diameters). A wheel's spin I_w enters separately,
-        through :meth:`actuator_rows` (the wheel speeds)."""
+        """The platform's bodies for the dynamic model (the parameters of Yamamoto & Yun Table 2): the body
+        (m_c, I_c about the vertical through its centre of mass) and, for driven wheels, each wheel of
+        :meth:`wheels` with an actuator at its centre (m_w, I_m about its diameters). A wheel's spin I_w
+        enters separately, through :meth:`actuator_rows` (the wheel speeds)."""
         parts = [RigidPart(body.mass, body.com, np.diag([0.0, 0.0, body.inertia_z]))]
         if wheel is not None and self.wheel_actuated:
             parts += [
