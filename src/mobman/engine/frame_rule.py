@@ -36,6 +36,7 @@ from typing import Any, Callable
 import jax
 import jax.numpy as jnp
 
+from mobman.engine.fusion import computed_once
 from mobman.engine.kernels import drop_in
 from mobman.engine.products import cross, unstack
 
@@ -49,6 +50,7 @@ def frame_jacobian(
     computes them, differentiable by the closed-form rule of the module notes."""
     frames = robot.frames(q)
     r, p = frame_of(frames)
+    p = computed_once(p)  # read by every column of the Jacobians
     return (r, p, *robot.point_jacobian(q, frames, p, arm, upto))
 
 
@@ -57,6 +59,7 @@ def _frame_jacobian_jvp(robot, frame_of, arm, upto, primals, tangents):
     (q,), (q_dot,) = primals, tangents
     frames = robot.frames(q)
     r, p = frame_of(frames)
+    p = computed_once(p)
     lin, ang = robot.point_jacobian(q, frames, p, arm, upto, coupled=False)
     m_dot = robot.motion_rates(q_dot)
     w = _running_sum(ang * m_dot, exclusive=True)
