@@ -1,5 +1,5 @@
-"""mobman.control: integrators, closed-loop simulation, metrics (references: tests/test_references.py, criteria:
-tests/test_criteria.py, the laws at one configuration: tests/test_laws.py).
+"""mobman.control.simulation: the integrators, closed-loop runs of the laws, batches, progress chunks, the
+recorded measures and the summary of a run, and the simulation's errors.
 
 The runs share one compiled simulation where possible (same robot, task, law structure, reference type and
 number of steps; gains and references are traced), which keeps the file fast.
@@ -229,15 +229,6 @@ def test_measures_and_metrics(runs):
     assert m["control_effort"] == pytest.approx(np.sum(track.eta[0] ** 2) * DT)
 
 
-def test_graining_points():
-    v = np.array([0.0, 0.2, 0.1, 0.0005, -0.0005, 0.05, -0.1, -0.2, 0.0, 0.3])
-    assert metrics.graining_points(v, threshold=1e-3) == 2
-    assert metrics.graining_points(v, threshold=0.0) == 4
-    assert metrics.first_significant(-v, 1e-3) == pytest.approx(-0.2)
-    with pytest.raises(InputError):
-        metrics.graining_points(np.zeros((2, 2)))
-
-
 def test_augmented_jacobian_hits_end_points():
     robot = robots.korayem_planar()
     q0 = np.array([0.0, 0.0, 0.0, np.pi / 3, np.pi / 2])
@@ -295,48 +286,3 @@ def test_simulate_input_errors():
         simulate(ROBOT, TASK, law, line, Q0, 0.02, 0.01, measures=("platform_w5",))
     with pytest.raises(InputError, match="integrator"):
         simulate(ROBOT, TASK, law, line, Q0, 1.0, 0.1, integrator="euler")
-
-
-PLANAR_ANGLE_SPEC = {
-    "duration": 0.2,
-    "dt": 0.02,
-    "q0": [0.0, 0.0, 0.0, 0.2, 0.5, 0.9],
-    "robot": {"name": "bayle-rrp"},
-    "task": {"kind": "planar_angle"},
-    "reference": {"kind": "line", "start": [0.2], "end": [0.3], "duration": 0.2},
-    "law": {"kind": "bayle"},
-    "gains": {"W": 2.0},
-}
-
-
-def test_spec_planar_angle_sequence():
-    """``sequence = "ZXY"``: Bayle's ξ4 = q3 + q4 (§5.2) through the vertical arm and past it; the default
-    ZYX heading of the x axis turns by π past the vertical (the arm's x axis points backwards)."""
-    from mobman.control import spec
-
-    robot = robots.bayle_rrp()
-    zxy = spec.parse(dict(PLANAR_ANGLE_SPEC, task={"kind": "planar_angle", "sequence": "ZXY"})).task
-    zyx = spec.parse(PLANAR_ANGLE_SPEC).task
-    assert zxy == PlanarAngle(sequence="ZXY") and zyx == PlanarAngle(sequence="ZYX")
-    for q5 in (0.3, np.pi / 2, 2.0):
-        q = np.array([0.1, -0.2, 0.3, 0.4, q5, 0.9])
-        np.testing.assert_allclose(np.asarray(kinematics.forward(robot, q, zxy)), [0.7], atol=1e-12)
-    q = np.array([0.1, -0.2, 0.3, 0.4, 2.0, 0.9])
-    np.testing.assert_allclose(np.asarray(kinematics.forward(robot, q, zyx)), [0.7 - np.pi], atol=1e-12)
-
-
-@pytest.mark.parametrize(
-    "sequence, message",
-    [
-        ("zxy", "task.sequence: 'zxy' not one of ZYX, ZXY (did you mean 'ZXY'?)"),
-        ("ZYZ", "(did you mean 'ZYX'?)"),
-        ("XYZ", "task.sequence: 'XYZ' not one of ZYX, ZXY"),
-        (3, "task.sequence: must be a string"),
-    ],
-)
-def test_spec_planar_angle_sequence_errors(sequence, message):
-    from mobman.control import spec
-
-    with pytest.raises(InputError) as exc:
-        spec.parse(dict(PLANAR_ANGLE_SPEC, task={"kind": "planar_angle", "sequence": sequence}))
-    assert message in str(exc.value)

@@ -5,7 +5,7 @@ holonomic base): the base becomes three joints (prismatic x, prismatic y, revolu
 body, and the arm is attached through the mount transform. Its coordinates are exactly q = (x, y, θ, q_a),
 so the whole (3 + n) × (3 + n) mass matrix and bias vector are compared, which includes the fixed-base arm
 block (rows/columns 3:) with the platform held fixed. The differential drive differs only by S(q) and the
-wheel terms, tested in test_dynamics.py.
+wheel terms, tested in test_dynamics_equations.py.
 """
 
 from __future__ import annotations

@@ -44,7 +44,7 @@ def _configurations(robot, n: int = 48, seed: int = 11) -> np.ndarray:
 def _tasks(robot) -> list:
     """One of every task kind, for the last arm's tool frame (the first arm's mount); two Euler sequences
     per robot, each sequence on two robots. The robot's own task comes first unless it is a pose, whose rows
-    are (v, ω) rather than ∂ξ/∂q (checked over the whole range in test_pose.py)."""
+    are (v, ω) rather than ∂ξ/∂q (checked over the whole range in test_model_tasks_pose.py)."""
     arm = len(robot.arms) - 1
     k = list(robots.ROBOTS).index(robot.name)
     sequences = spatial.EULER_SEQUENCES[k % 5], spatial.EULER_SEQUENCES[(k + 1) % 5]

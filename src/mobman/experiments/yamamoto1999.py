@@ -404,10 +404,10 @@ TYPOS = [
     "Eq. (26): the sphere (25) in normalised rates is q̄̇ = Ĵ⁺ v (Ĵ = J Y⁻¹ already contains the normalisation); the "
     "printed (Y Ĵ⁺ v)ᵀ(Y Ĵ⁺ v) applies Y a second time (the rates would be divided by their maxima squared), and its "
     "second line ends with a stray transpose. Correct: v_oᵀ (Ĵ⁺ Wᵀ)ᵀ(Ĵ⁺ Wᵀ) v_o = 1, i.e. v_oᵀ W (Ĵ Ĵᵀ)⁻¹ Wᵀ v_o = 1 "
-    "(tests/test_ellipsoids.py::test_printed_eq26_is_a_typo).",
+    "(tests/test_dynamics_ellipsoids.py::test_printed_eq26_is_a_typo).",
     "Eq. (35): μ_o = Q⁻¹ ξ + … contradicts the line above it in eq. (33), which has −Q⁻¹ ξ (from eq. 28); the sign "
     "must be minus. With the object moving, μ_o also needs the velocity terms P J⁺(Ẇᵀ v_o − J̇ ẋ) and Jᵀ W⁺ c_o "
-    "that eq. (27)–(30) drop by assuming rest (tests/test_ellipsoids.py::test_velocity_offset_mu_corrected_eq35).",
+    "that eq. (27)–(30) drop by assuming rest (tests/test_dynamics_ellipsoids.py::test_velocity_offset_mu_corrected_eq35).",
     "Eq. (34) names the matrix Λ, eq. (33) and (38) Λ_o (the same matrix).",
     "Eq. (28): q̈ stands for ẋ = (η̇, ¹q̈, ²q̈), the derivative of the reduced velocities of eq. (16), not of the "
     "generalized coordinates; likewise J in (27)–(35) is the Jacobian in the reduced velocities x of eq. (39).",

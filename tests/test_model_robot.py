@@ -1,0 +1,61 @@
+"""mobman.model.robot: a robot of two arms on offset mounts, models hashable and equal by value, and the model's
+construction errors (robots, platforms, inertials, tasks, arms)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import mobman
+from mobman import kinematics as K
+from mobman.model import (
+    Arm,
+    DifferentialDrive,
+    EulerAngles,
+    MobileManipulator,
+    Mount,
+    Position,
+    robots,
+    stack,
+)
+
+
+def test_two_arms_and_mount_offsets():
+    arm = robots.planar_arm((1.0,))
+    robot = MobileManipulator(
+        DifferentialDrive(),
+        (arm, arm),
+        (Mount(0.5), Mount(0.0, 0.3, 0.2, yaw=math.pi / 2)),
+        task=stack(Position(arm=0), Position(arm=1)),
+    )
+    q = np.array([1.0, 2.0, 0.0, 0.0, 0.0])
+    np.testing.assert_allclose(K.forward(robot, q), [2.5, 2.0, 0.0, 1.0, 3.3, 0.2], atol=1e-14)
+    assert robot.coordinate_names == ("x", "y", "theta", "arm1.q1", "arm2.q1")
+
+
+def test_models_are_hashable_and_equal_by_value():
+    assert robots.bayle_planar() == robots.bayle_planar()
+    assert hash(robots.bayle_planar()) == hash(robots.bayle_planar())
+    assert robots.bayle_planar(l1=0.6) != robots.bayle_planar()
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: robots.bayle_planar(l1=-1.0), "l1 \\(a length\\) must be a finite number > 0"),
+        (lambda: robots.build("nonexistent"), "unknown robot"),
+        (lambda: robots.build("bayle-planar", l9=1.0), "unknown parameter 'l9'"),
+        (lambda: DifferentialDrive(wheel_radius=0.0), "wheel_radius must be"),
+        (lambda: mobman.LinkInertial(-1.0), "mass must be"),
+        (lambda: mobman.LinkInertial(1.0, inertia=(1, 2, 0, 0, 1, 0, 0, 0, 1)), "symmetric"),
+        (lambda: mobman.LinkInertial(1.0, inertia=(-1.0, 1.0, 1.0)), "positive semi-definite"),
+        (lambda: Position("xw"), "components"),
+        (lambda: EulerAngles("ABC"), "not supported"),
+        (lambda: Arm.from_dh([(0, 0, 1)]), "4 numbers"),
+    ],
+)
+def test_bad_model_input_raises_model_error(make, match):
+    with pytest.raises(mobman.ModelError, match=match):
+        make()
