@@ -1,5 +1,6 @@
-"""Endogenous-configuration motion planning (Tchoń, Jakubiak & Muszyński 2002): mathematics and
-reproduction."""
+"""mobman.planning (endpoint map and algorithms): endogenous-configuration motion planning (Tchoń, Jakubiak &
+Muszyński 2002), the variational Jacobian three ways, the inverses and their errors (the bases:
+tests/test_planning_basis.py)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from mobman.experiments import tchon2002
 from mobman.model.robots import tchon_car_rtr
 from mobman.planning import integrators
 from mobman.planning.algorithms import Options, dexterity_gradient, null_space_projector, plan, right_inverse
-from mobman.planning.basis import Fourier, PiecewiseConstant
+from mobman.planning.basis import PiecewiseConstant
 from mobman.planning.endpoint import (
     PlanningSetting,
     dexterity,
@@ -48,27 +49,6 @@ def z_test():
     z = tchon2002.initial_configuration()
     z[:10] = rng.normal(scale=1.0, size=10)
     return z
-
-
-@pytest.mark.parametrize("basis", [Fourier(3), PiecewiseConstant(4)])
-def test_basis_is_orthonormal(basis):
-    horizon, n = 2.5, 4000
-    t = (np.arange(n) + 0.5) * horizon / n
-    phi = np.asarray(jax.vmap(lambda s: basis.values(s, horizon))(jnp.asarray(t)))
-    gram = phi.T @ phi * horizon / n
-    np.testing.assert_allclose(gram, np.eye(basis.size), atol=1e-9)
-
-
-def test_fourier_matches_paper_series():
-    t = 0.3
-    lam = np.array([0.5, -1.0, 2.0, 0.25, 3.0])
-    paper = lam[0] + math.sqrt(2) * (
-        lam[1] * math.sin(2 * math.pi * t)
-        + lam[2] * math.cos(2 * math.pi * t)
-        + lam[3] * math.sin(4 * math.pi * t)
-        + lam[4] * math.cos(4 * math.pi * t)
-    )
-    assert float(Fourier(2).values(jnp.asarray(t), 1.0) @ lam) == pytest.approx(paper, rel=1e-14)
 
 
 @pytest.mark.parametrize("method, steps", [("rk4", 250), ("dop853", 8)])
