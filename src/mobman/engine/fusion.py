@@ -13,8 +13,7 @@ consumers; for a value read by dozens, or by values that are read again, it mult
 :func:`computed_once` makes XLA write its argument to memory once and its consumers read it. It is an
 identity on the values (the product reduction of x and 1: exact for every x, −0.0, infinities and NaN
 included) and on the derivatives; XLA's CPU runtime does not copy a reduction into its consumers, which is
-what stops the recomputation. Other backends
-get x itself (their fusion is not measured here).
+what stops the recomputation. Other backends get x itself.
 """
 
 from __future__ import annotations
