@@ -4,6 +4,8 @@
   per-configuration function into the public batched one (validation once at the NumPy boundary, ``jit``,
   cache-sized blocks, core sharing).
 - :mod:`mobman.engine.kernels`: the registry that swaps a tuned drop-in in for a plain definition of the model.
+- :mod:`mobman.engine.fusion`: :func:`~mobman.engine.fusion.computed_once`, for a value the drop-ins share
+  between many consumers (XLA's fusion would recompute it in each).
 - The drop-ins: :mod:`~mobman.engine.products` (written-out small products, constants as scalars, Rodrigues'
   formula), :mod:`~mobman.engine.linalg` (the batched Jacobi eigensolver), :mod:`~mobman.engine.frame_rule`
   (the closed-form derivative of a frame's Jacobians).
