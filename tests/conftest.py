@@ -1,5 +1,5 @@
-"""Shared by the tests: one persistent XLA compilation cache for the run, and for the browser tests the artifacts
-folder and the robot-pixel mask of a screenshot."""
+"""Shared by the tests: one persistent XLA compilation cache for the run, for the browser tests the artifacts
+folder and the robot-pixel mask of a screenshot, and the planning tests' fixtures (tests/planning_setting.py)."""
 
 from __future__ import annotations
 
@@ -11,6 +11,8 @@ from pathlib import Path
 import jax
 import numpy as np
 import pytest
+
+from planning_setting import coarse, setting, z_test  # noqa: F401  (the planning tests' fixtures)
 
 # One persistent XLA compilation cache for the whole run, shared by the test workers and the subprocesses they
 # start (examples, command lines): a program compiled once (the same robot's kinematics in many tests) is read

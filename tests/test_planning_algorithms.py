@@ -1,10 +1,8 @@
-"""mobman.planning (endpoint map and algorithms): endogenous-configuration motion planning (Tchoń, Jakubiak &
-Muszyński 2002), the variational Jacobian three ways, the inverses and their errors (the bases:
-tests/test_planning_basis.py)."""
+"""mobman.planning.algorithms: the right inverse and the null-space projector, the extended pseudo-inverse, the
+null-space term raising dexterity, the error's exponential decay (Tchoń, Jakubiak & Muszyński 2002 eq. 14–16),
+non-convergence as a result, piecewise-constant controls, and the planners' input errors."""
 
 from __future__ import annotations
-
-import math
 
 import jax
 import jax.numpy as jnp
@@ -14,69 +12,18 @@ import pytest
 from mobman import ConvergenceError, InputError
 from mobman.experiments import tchon2002
 from mobman.model.robots import tchon_car_rtr
-from mobman.planning import integrators
 from mobman.planning.algorithms import Options, dexterity_gradient, null_space_projector, plan, right_inverse
 from mobman.planning.basis import PiecewiseConstant
 from mobman.planning.endpoint import (
     PlanningSetting,
     dexterity,
-    dexterity_matrix,
     endpoint,
     endpoint_jacobian,
     extended_jacobian,
-    is_regular,
     variational,
 )
 
-Q0 = np.stack([tchon2002.start_pose(n) for n in tchon2002.STARTS])
-
-
-@pytest.fixture(scope="module")
-def setting():
-    return tchon2002.setting()
-
-
-@pytest.fixture(scope="module")
-def coarse(setting):
-    """The planners' Jacobian grid: the variational-system checks run there (compiled once)."""
-    return setting.jacobian_setting
-
-
-@pytest.fixture(scope="module")
-def z_test():
-    """A generic configuration with all harmonics active (not the paper's nearly constant start)."""
-    rng = np.random.default_rng(7)
-    z = tchon2002.initial_configuration()
-    z[:10] = rng.normal(scale=1.0, size=10)
-    return z
-
-
-@pytest.mark.parametrize("method, steps", [("rk4", 250), ("dop853", 8)])
-def test_endpoint_integrator_has_its_order(setting, z_test, method, steps):
-    """Halving h divides the endpoint error by ≈ 2^order (4 for RK4, 8 for DOP853); the default grid is
-    accurate to ≪ 1e-12."""
-    ref = np.asarray(endpoint(PlanningSetting(setting.robot, steps=400), z_test, Q0[0]))
-
-    def error(n):
-        return np.abs(
-            np.asarray(endpoint(PlanningSetting(setting.robot, steps=n, method=method), z_test, Q0[0])) - ref
-        ).max()
-
-    order = integrators.tableau(method).order
-    assert abs(math.log2(error(steps) / error(2 * steps)) - order) < 1.5
-    assert np.abs(np.asarray(endpoint(setting, z_test, Q0[0])) - ref).max() < 1e-13
-
-
-def test_variational_jacobian_equals_autodiff_and_finite_differences(coarse, z_test):
-    J_var = np.asarray(endpoint_jacobian(coarse, z_test, Q0[1], "variational"))
-    J_ad = np.asarray(endpoint_jacobian(coarse, z_test, Q0[1], "autodiff"))
-    assert np.abs(J_var - J_ad).max() <= 1e-9 * max(1.0, np.abs(J_ad).max())
-    h = 1e-6
-    eye = np.eye(z_test.size)
-    plus = np.asarray(endpoint(coarse, z_test + h * eye, Q0[1]))
-    minus = np.asarray(endpoint(coarse, z_test - h * eye, Q0[1]))
-    J_fd = ((plus - minus) / (2 * h)).T
-    np.testing.assert_allclose(J_var, J_fd, atol=1e-7)
+from planning_setting import Q0
 
 
 def test_right_inverse_and_null_space_projector(coarse, z_test):
@@ -117,16 +64,6 @@ def test_null_space_term_raises_dexterity_without_moving_the_output(coarse, z_te
     eps = 1e-4 / np.linalg.norm(term)
     d = [dexterity(coarse, z_test + s * eps * term, Q0[0], parametric=True) for s in (-1.0, 0.0, 1.0)]
     assert d[2] > d[1] > d[0]
-
-
-def test_parametric_gram_is_below_paper_dexterity_matrix(coarse, z_test):
-    """J Jᵀ (finite parametrisation) ≼ 𝒟 = C𝓜Cᵀ + DDᵀ (eq. 11): Bessel's inequality for the basis span."""
-    D_paper = np.asarray(dexterity_matrix(coarse, z_test, Q0[0]))
-    D_param = np.asarray(dexterity_matrix(coarse, z_test, Q0[0], parametric=True))
-    assert np.linalg.eigvalsh(D_paper - D_param).min() > -1e-10
-    assert np.linalg.eigvalsh(D_paper - D_param).max() > 1e-3  # really different: the basis is truncated
-    assert dexterity(coarse, z_test, Q0[0]) > dexterity(coarse, z_test, Q0[0], parametric=True) > 0
-    assert is_regular(coarse, z_test, Q0[0])
 
 
 def test_small_step_error_decays_exponentially(setting):
@@ -187,14 +124,3 @@ def test_piecewise_constant_controls_plan_to_machine_precision():
     assert result.converged and result.final_error <= 1e-12
     fine = PlanningSetting(tchon_car_rtr(), PiecewiseConstant(5), steps=4 * setting.steps)
     assert np.abs(np.asarray(endpoint(fine, result.z, q0)) - [0.0, 0.0, 1.0]).max() < 1e-12
-
-
-def test_a_pose_output_is_refused_with_a_clear_error():
-    """The planners subtract endpoints (y_d − K(z)): a Pose task, whose error is log(R* Rᵀ), is refused."""
-    from mobman.model.robots import panda_differential
-    from mobman.model.tasks import Pose
-
-    with pytest.raises(InputError, match="planning output .*not a pose"):
-        PlanningSetting(panda_differential(), task=Pose())
-    with pytest.raises(InputError, match="not a pose"):
-        PlanningSetting(panda_differential())  # its own task is the flange pose
