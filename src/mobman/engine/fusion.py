@@ -5,10 +5,10 @@ loop that reads it rather than written to memory once. That is right for a value
 consumers; for a value read by dozens, or by values that are read again, it multiplies the work. Two cases:
 
 - a frame's origin p, read by every column of its Jacobian (a_j × (p − o_j)): p is the end of a chain of
-  fixed offsets, and the fused assembly of TIAGo's J̄ recomputed that chain for each of its 60 entries
+  fixed offsets, and the fused assembly of TIAGo's J̄ would recompute that chain for each of its 60 entries
   (:mod:`mobman.engine.frame_rule`);
 - the rounds of a Jacobi sweep, each entry an update of two entries of the round before
-  (:mod:`mobman.engine.linalg`): fused, the last round's entries recomputed every earlier round.
+  (:mod:`mobman.engine.linalg`): fused, the last round's entries would recompute every earlier round.
 
 :func:`computed_once` makes XLA write its argument to memory once and its consumers read it. It is an
 identity on the values (the product reduction of x and 1: exact for every x, −0.0, infinities and NaN

@@ -7,8 +7,8 @@ million 6 × 6 matrices. Here the classical cyclic Jacobi method (Golub & Van Lo
 written elementwise in a structure-of-arrays layout: every matrix entry is one array over the batch (batch
 axis last in memory), and each sweep is one fully unrolled straight-line program that XLA fuses into tight
 vectorised loops on the CPU and the GPU. Each round of the sweep reads the entries the previous one wrote
-(:func:`mobman.engine.fusion.computed_once`): fused across rounds, every entry recomputed the cheap updates
-of all earlier rounds of the sweep, 3.5 times the arithmetic. Eigenvalues alone stop sweeping once the diagonal of every matrix in
+(:func:`mobman.engine.fusion.computed_once`): fused across rounds, every entry would recompute the cheap
+updates of all earlier rounds of the sweep, 3.5 times the arithmetic. Eigenvalues alone stop sweeping once the diagonal of every matrix in
 the batch is provably within eps · ‖A‖_F of the eigenvalues (Weyl's and the Kato–Temple bounds); eigenvectors
 run the fixed count of sweeps.
 
