@@ -8,7 +8,8 @@ written elementwise in a structure-of-arrays layout: every matrix entry is one a
 axis last in memory), and each sweep is one fully unrolled straight-line program that XLA fuses into tight
 vectorised loops on the CPU and the GPU. Each round of the sweep reads the entries the previous one wrote
 (:func:`mobman.engine.fusion.computed_once`): fused across rounds, every entry would recompute the cheap
-updates of all earlier rounds of the sweep, 3.5 times the arithmetic. Eigenvalues alone stop sweeping once the diagonal of every matrix in
+updates of all earlier rounds of the sweep, 3.5 times the arithmetic; the angles of a round's rotations
+(which touch disjoint rows and columns) are computed together, in one kernel. Eigenvalues alone stop sweeping once the diagonal of every matrix in
 the batch is provably within eps · ‖A‖_F of the eigenvalues (Weyl's and the Kato–Temple bounds); eigenvectors
 run the fixed count of sweeps.
 
@@ -98,6 +99,11 @@ def round_robin_pairs(n: int) -> tuple[tuple[int, int], ...]:
     return tuple(pairs)
 
 
+def _pivots(pairs: tuple[tuple[int, int], ...]) -> tuple[list[tuple[int, int]], ...]:
+    """The (p, p), (q, q) and (p, q) entries of the rotations (p, q) of a round."""
+    return [(p, p) for p, _ in pairs], [(q, q) for _, q in pairs], list(pairs)
+
+
 def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int) -> _Eigen:
     """Unsorted eigenvalues (..., n) and, if ``vectors``, eigenvectors (..., n, n) (columns).
 
@@ -123,10 +129,14 @@ def _jacobi(a: jnp.ndarray, vectors: bool, sweeps: int) -> _Eigen:
     def sweep(_, carry):
         s, v = list(carry[0]), list(carry[1])
         for k, (p, q) in enumerate(pairs):
-            if k and k % per_round == 0:  # a new round reads the last one's entries from memory
-                s, v = [computed_once(x) for x in s], [computed_once(x) for x in v]
+            if k % per_round == 0:  # a new round: rotations of disjoint rows and columns
+                if k:  # it reads the last round's entries from memory
+                    s, v = [computed_once(x) for x in s], [computed_once(x) for x in v]
+                # its angles depend on the entries before it only: one kernel for all of them
+                pivots = _pivots(pairs[k : k + per_round])
+                angles = _rotation(*(jnp.stack([s[at(i, j)] for i, j in entries]) for entries in pivots))
+            c, sn, tan = (x[k % per_round] for x in angles)
             app, aqq, apq = s[at(p, p)], s[at(q, q)], s[at(p, q)]
-            c, sn, tan = _rotation(app, aqq, apq)
             for r in range(n):
                 if r in (p, q):
                     continue
