@@ -9,9 +9,9 @@ axis last in memory), and each sweep is one fully unrolled straight-line program
 vectorised loops on the CPU and the GPU. Each round of the sweep reads the entries the previous one wrote
 (:func:`mobman.engine.fusion.computed_once`): fused across rounds, every entry would recompute the cheap
 updates of all earlier rounds of the sweep, 3.5 times the arithmetic; the angles of a round's rotations
-(which touch disjoint rows and columns) are computed together, in one kernel. Eigenvalues alone stop sweeping once the diagonal of every matrix in
-the batch is provably within eps · ‖A‖_F of the eigenvalues (Weyl's and the Kato–Temple bounds); eigenvectors
-run the fixed count of sweeps.
+(which touch disjoint rows and columns) are computed together, in one kernel. Eigenvalues alone stop
+sweeping once the diagonal of every matrix in the batch is provably within eps · ‖A‖_F of the eigenvalues
+(Weyl's and the Kato–Temple bounds); eigenvectors run the fixed count of sweeps.
 
 One matrix is different: unrolled, the Jacobi program is about a hundred tiny XLA kernels per sweep, while
 LAPACK solves a 6 × 6 problem in one call. So on the CPU a single n × n matrix (3 ≤ n ≤ 8) goes to LAPACK,
