@@ -1,17 +1,15 @@
-"""Actuator envelopes, the affine-in-mass load capacity, korayem-load and `mobman load-capacity`."""
+"""The load capacity (mobman.dynamics.load_capacity): torques affine in the payload mass, the largest load within
+the actuators' envelopes, unbounded and infeasible motions."""
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from mobman import dynamics as dyn
-from mobman.cli import main
-from mobman.dynamics.actuators import DCMotor, TorqueBox, actuator_list, envelope_coefficients
+from mobman.dynamics.actuators import DCMotor, TorqueBox
 from mobman.dynamics.load_capacity import (
     InfeasibleMotionError,
     capacity_from_torques,
@@ -19,7 +17,7 @@ from mobman.dynamics.load_capacity import (
     load_torques,
     max_load,
 )
-from mobman.errors import InputError, ModelError
+from mobman.errors import InputError
 from mobman.model import spatial
 from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platforms import DifferentialDrive
@@ -28,7 +26,6 @@ from mobman.model.robot import MobileManipulator
 G = 9.81
 LENGTH, LINK_COM, LINK_MASS = 0.8, 0.3, 4.0
 N = 9
-EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "korayem_load.toml"
 
 
 def yaw_lift_model() -> dyn.DynamicModel:
@@ -80,58 +77,6 @@ def moving_samples():
 def static_samples():
     t = np.linspace(0.0, 1.0, N)
     return t, np.zeros((N, 5)), np.zeros((N, 4)), np.zeros((N, 4))
-
-
-# --- actuators ---------------------------------------------------------------------------------------
-
-
-def test_dc_motor_envelope_is_korayem_eq_34():
-    motor = DCMotor(63.22, 3.5)
-    assert motor.k2 == pytest.approx(63.22 / 3.5)
-    speed = np.array([-1.0, 0.0, 1.0, 3.5, 5.0])
-    lower, upper = motor.limits(speed)
-    np.testing.assert_allclose(upper, 63.22 - 63.22 / 3.5 * speed, rtol=1e-15)
-    np.testing.assert_allclose(lower, -63.22 - 63.22 / 3.5 * speed, rtol=1e-15)
-    assert upper[3] == pytest.approx(0.0, abs=1e-12)  # no torque left to drive at the no-load speed
-
-
-def test_torque_box_and_coefficients():
-    box = TorqueBox(-2.0, 5.0)
-    np.testing.assert_array_equal(box.limits([0.0, 10.0]), ([-2.0, -2.0], [5.0, 5.0]))
-    assert TorqueBox.symmetric(3.0) == TorqueBox(-3.0, 3.0)
-    coeffs = envelope_coefficients(actuator_list(("a", "b", "c"), {"a": box, "c": DCMotor(2.0, 4.0)}))
-    np.testing.assert_array_equal(
-        coeffs, [[-2.0, -math.inf, -2.0], [0.0, 0.0, -0.5], [5.0, math.inf, 2.0], [0.0, 0.0, -0.5]]
-    )
-
-
-@pytest.mark.parametrize(
-    ("factory", "field"),
-    [
-        (lambda: DCMotor(0.0, 3.5), "stall_torque"),
-        (lambda: DCMotor(63.22, -1.0), "no_load_speed"),
-        (lambda: DCMotor(math.inf, 3.5), "stall_torque"),
-        (lambda: DCMotor(1.0, "fast"), "no_load_speed"),
-        (lambda: TorqueBox(1.0, -1.0), "lower must be < upper"),
-        (lambda: TorqueBox(math.nan, 1.0), "lower"),
-        (lambda: TorqueBox.symmetric(-2.0), "limit"),
-    ],
-)
-def test_actuator_validation_names_the_field(factory, field):
-    with pytest.raises(ModelError, match=field):
-        factory()
-
-
-def test_actuator_list_errors():
-    with pytest.raises(InputError, match="unknown actuator 'elbow'"):
-        actuator_list(("a", "b"), {"elbow": TorqueBox(-1, 1)})
-    with pytest.raises(InputError, match="expected 2 entries"):
-        actuator_list(("a", "b"), [TorqueBox(-1, 1)])
-    with pytest.raises(InputError, match="TorqueBox, a DCMotor or None"):
-        actuator_list(("a",), [3.0])
-
-
-# --- load capacity -----------------------------------------------------------------------------------
 
 
 def test_torque_is_affine_in_the_payload_mass():
@@ -219,88 +164,3 @@ def test_eta_dot_from_samples_is_second_order_exact_on_quadratics():
     np.testing.assert_allclose(
         eta_dot_from_samples(t, eta), np.column_stack([2 * t, np.full_like(t, 3.0)]), atol=1e-12
     )
-
-
-# --- reproduction and command line -------------------------------------------------------------------
-
-
-def test_korayem_load_quick(tmp_path):
-    from mobman.experiments import korayem_load
-
-    result = korayem_load.run(tmp_path, quick=True)
-    result.write(tmp_path)
-    data = json.loads((tmp_path / "results.json").read_text())
-    assert data["parameters"]["joint_motor_k1_Nm"] == 63.22
-    assert data["parameters"]["joint_motor_omega_nl_rad_s"] == 3.5
-    cases = data["cases"]
-    assert [c["case"] for c in cases] == [1, 2]
-    for c in cases:
-        assert c["max_load_kg"] > 0 and c["bounded"]
-        assert c["limiting_actuator"] in ("theta1", "theta2")
-        assert 0.0 <= c["limiting_time"] <= 2.0
-    assert [c["paper_max_load_kg"] for c in cases] == [20.188, 37.147]
-    # our documented parameters give the paper's ordering: base-point extra task carries more
-    assert data["case2_exceeds_case1"] is True
-    assert cases[1]["max_load_kg"] > cases[0]["max_load_kg"]
-    for name in ("case1_torques.png", "case2_torques.png", "allowable_load.png", "report.md"):
-        assert (tmp_path / name).stat().st_size > 0
-    # the CLI on the example spec (case 1, same model and step) agrees with the reproduction
-    out = tmp_path / "cli"
-    main(["load-capacity", str(EXAMPLE), "--out", str(out)])
-    cli = json.loads((out / "results.json").read_text())
-    assert cli["max_load_kg"] == pytest.approx(cases[0]["max_load_kg"], rel=1e-12)
-    assert cli["limiting_actuator"] == cases[0]["limiting_actuator"]
-    assert (out / "torques.png").stat().st_size > 0
-
-
-def _spec(tmp_path: Path, old: str, new: str) -> str:
-    text = EXAMPLE.read_text()
-    assert old in text
-    path = tmp_path / "spec.toml"
-    path.write_text(text.replace(old, new, 1))
-    return str(path)
-
-
-@pytest.mark.parametrize(
-    ("old", "new", "message"),
-    [
-        ("mass = 40.0", "mass = -40.0", "platform: PlatformBody: mass must be a finite number > 0"),
-        ("I_w = 0.005", "I_w = -0.005", "wheel: Wheel: I_w must be a finite number ≥ 0"),
-        (
-            "inertia = [0.0, 0.10416666666666667, 0.10416666666666667]",
-            "inertia = [0.0, -1.0, 0.1]",
-            "links[0]: LinkInertial: inertia must be positive semi-definite",
-        ),
-        ("mass = 5.0", "mass = 0.0", "links[0]: LinkInertial: mass must be"),
-        (
-            "stall_torque = 63.22 ",
-            "stall_torque = -63.22 ",
-            "actuators.theta1: DCMotor: stall_torque must be",
-        ),
-        ("no_load_speed = 3.5 ", "no_load_speed = 0 ", "actuators.theta1: DCMotor: no_load_speed must be"),
-        ("[actuators.theta1]", "[actuators.shoulder]", "actuators.shoulder: unknown actuator"),
-        ('kind = "dc_motor"', 'kind = "hydraulic"', "actuators.theta1.kind: 'hydraulic' not one of"),
-        ("case = 1 ", "case = 3 ", "motion.case: 1"),
-        ("[payload]", "[payload]\narm = 4", "payload.arm: an arm index in 0..0"),
-    ],
-)
-def test_cli_errors_name_the_field(tmp_path, capsys, old, new, message):
-    with pytest.raises(SystemExit) as exc:
-        main(["load-capacity", _spec(tmp_path, old, new), "--json"])
-    assert exc.value.code == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and err.startswith("error: ") and message in err
-
-
-def test_cli_missing_link_and_file(tmp_path, capsys):
-    text = EXAMPLE.read_text()
-    cut = text.index("[[links]]                                        # theta2")
-    path = tmp_path / "one_link.toml"
-    path.write_text(text[:cut] + text[text.index("[payload]") :])
-    with pytest.raises(SystemExit) as exc:
-        main(["load-capacity", str(path)])
-    assert exc.value.code == 2
-    assert "links: arm 0 has 2 links" in capsys.readouterr().err
-    with pytest.raises(SystemExit):
-        main(["load-capacity", str(tmp_path / "missing.toml")])
-    assert "cannot read" in capsys.readouterr().err

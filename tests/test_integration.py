@@ -1,53 +1,17 @@
-"""The Runge–Kutta driver (mobman.integration) and its scan-shaped kernel (mobman.engine.runge_kutta): the
-tableaus' consistency, their orders measured on ODEs with a closed-form solution, the commutator-free Lie
-group method on the unicycle's group, and the kernel's values and derivatives against the definition."""
+"""The Runge–Kutta driver (mobman.integration): the tableaus' consistency, their orders measured on ODEs with a
+closed-form solution, and the commutator-free Lie group method on the unicycle's group."""
 
 from __future__ import annotations
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 
 import mobman  # noqa: F401  (float64)
 from mobman import integration
-from mobman.engine import runge_kutta
-from mobman.integration import CF4, DOP853, RK4
+from mobman.integration import CF4, RK4
 
-TABLEAUS = {"rk4": RK4, "dop853": DOP853, "cf4": CF4}
-
-
-def arc(q, u):
-    """q ∘ exp(u) on SE(2) × R: the unicycle (x, y, θ) driven for unit time at the body twist (u0, 0, u1), i.e.
-    along a circle of radius u0/u1 (a line if u1 = 0), closed form; q[3:] + u[2:] on the joints."""
-    x, y, th = q[0], q[1], q[2]
-    v, w = u[0], u[1]
-    small = jnp.abs(w) < 1e-300
-    w_safe = jnp.where(small, 1.0, w)
-    dx = jnp.where(small, v * jnp.cos(th), v / w_safe * (jnp.sin(th + w) - jnp.sin(th)))
-    dy = jnp.where(small, v * jnp.sin(th), -v / w_safe * (jnp.cos(th + w) - jnp.cos(th)))
-    return jnp.concatenate([jnp.stack([x + dx, y + dy, th + w]), q[3:] + u[2:]])
-
-
-def vector_field(t, y):
-    """y0' = −y0² (y0 = 1/(1 + t) from 1), y1' = y1 cos t (y1 = e^{sin t} from 1)."""
-    return jnp.stack([-(y[0] ** 2), y[1] * jnp.cos(t)])
-
-
-def vector_solution(t):
-    return np.array([1.0 / (1.0 + t), np.exp(np.sin(t))])
-
-
-def unicycle_field(t, q):
-    """η = (v, ω, q̇_3) with v = ω = 1 + θ²: the platform runs along the unit circle with θ' = 1 + θ², so from
-    q = 0: θ = tan t, (x, y) = (sin θ, 1 − cos θ); the joint q̇_3 = q_3 cos t, q_3 = e^{sin t} from 1."""
-    speed = 1.0 + q[2] ** 2
-    return jnp.stack([speed, speed, q[3] * jnp.cos(t)])
-
-
-def unicycle_solution(t):
-    th = np.tan(t)
-    return np.array([np.sin(th), 1.0 - np.cos(th), th, np.exp(np.sin(t))])
+from ode_cases import TABLEAUS, arc, unicycle_field, unicycle_solution, vector_field, vector_solution
 
 
 def _run(tab, f, y0, t_end, n, exp=None):
@@ -120,88 +84,6 @@ def test_junction_and_aux_of_a_lie_step():
     expected_mid = arc(q0, h * jnp.asarray(CF4.b[0]) @ aux["k"])
     np.testing.assert_allclose(np.asarray(mid), np.asarray(expected_mid), rtol=0, atol=1e-15)
     np.testing.assert_allclose(np.asarray(arc(mid, h * jnp.asarray(CF4.b[1]) @ aux["k"])), q1, atol=1e-15)
-
-
-# --- the scan-shaped kernel against the definition -------------------------------------------------
-
-
-def planar_system(t, state):
-    """A pytree state (q, Ξ) like the planners' variational system: q̇ = S(q) u(t), Ξ̇ = A Ξ + B."""
-    q, xi = state
-    u = jnp.array([1.0 + jnp.sin(3.0 * t), jnp.cos(t)])
-    c, s = jnp.cos(q[2]), jnp.sin(q[2])
-    zero = jnp.zeros(())
-    a = jnp.stack([jnp.stack([zero, zero, -s * u[0]]), jnp.stack([zero, zero, c * u[0]]), jnp.zeros(3)])
-    b = jnp.stack([jnp.stack([c, zero]), jnp.stack([s, zero]), jnp.array([0.0, 1.0])])
-    return jnp.stack([c * u[0], s * u[0], u[1]]), a @ xi + b * jnp.cos(2.0 * t)
-
-
-@pytest.mark.parametrize("name", TABLEAUS)
-def test_scan_kernel_equals_the_definition(name):
-    tab = TABLEAUS[name]
-    state = (jnp.array([0.2, -0.1, np.pi / 2]), jnp.ones((3, 2)))
-
-    def f(t, y):
-        k = planar_system(t, y)
-        return k, {"q": y[0], "t": t}
-
-    plain = jax.jit(lambda s: integration.step_path(tab, f, s, 0.3, 0.2, has_aux=True))(state)
-    fast = jax.jit(lambda s: runge_kutta.step_path(tab, f, s, 0.3, 0.2, has_aux=True))(state)
-    for a, b in zip(jax.tree.leaves(plain), jax.tree.leaves(fast)):
-        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-13)
-
-
-def test_stage_inputs_are_the_signal_at_the_stage_times():
-    """An exogenous signal given at the stage times (``inputs``) is the same as f reading it at t + c_i h."""
-    h, t = 0.2, 0.3
-    inputs = jnp.sin(t + h * jnp.asarray(DOP853.c))[:, None] * jnp.ones(2)
-    y0 = jnp.array([1.0, 1.0])
-
-    def f(s, y, u):
-        return vector_field(s, y) + u
-
-    def reading(s, y):
-        return vector_field(s, y) + jnp.sin(s)
-
-    expected = np.asarray(integration.step(DOP853, reading, y0, t, h))
-    for kernel in (integration, runge_kutta):
-        got = kernel.step(DOP853, f, y0, t, h, inputs=inputs)
-        np.testing.assert_allclose(np.asarray(got), expected, rtol=0, atol=1e-15)
-
-
-def test_scan_kernel_equals_the_definition_on_the_group():
-    q0 = jnp.array([0.1, 0.2, np.pi, 1.0])
-
-    def f(t, q):
-        k = unicycle_field(t, q) + jnp.array([0.0, jnp.sin(q[0]), 0.0])
-        return k, k
-
-    plain = integration.step_path(CF4, f, q0, 0.0, 0.25, exp=arc, has_aux=True)
-    fast = runge_kutta.step_path(CF4, f, q0, 0.0, 0.25, exp=arc, has_aux=True)
-    for a, b in zip(jax.tree.leaves(plain), jax.tree.leaves(fast)):
-        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-13)
-    assert len(plain[1]) == len(fast[1]) == 1
-
-
-def test_scan_kernel_has_the_derivatives_of_the_definition():
-    """The planners differentiate through the integrator (the autodiff endpoint Jacobian, forward mode): the
-    derivatives of DOP853 steps with respect to the initial state agree."""
-
-    def endpoint(kernel):
-        def k_of(q0):
-            state = (q0, jnp.zeros((3, 2)))
-            return integration.integrate(DOP853, planar_system, state, 0.0, 0.1, 2, stepper=kernel.step)[0][0]
-
-        return k_of
-
-    q0 = jnp.array([0.2, -0.1, -np.pi / 2])
-    plain, fast = endpoint(integration), endpoint(runge_kutta)
-    derivative = np.asarray(jax.jit(jax.jacfwd(fast))(q0))
-    np.testing.assert_allclose(np.asarray(jax.jit(jax.jacfwd(plain))(q0)), derivative, rtol=0, atol=1e-13)
-    # and the derivative is the derivative: central differences
-    eps, fast = 1e-6, jax.jit(fast)
-    fd = np.stack([(fast(q0 + eps * e) - fast(q0 - eps * e)) / (2 * eps) for e in np.eye(3)], axis=1)
-    np.testing.assert_allclose(derivative, fd, atol=1e-8)
 
 
 def test_integrate_records_every_step():

@@ -1,6 +1,7 @@
 """The task registry (mobman.model.tasks.base): kinds found by name, a typo answered with the closest kind, and
 a task kind defined in this file — one class, no other edit — found by kind from a table and working in the
-numerical and the symbolic kinematics; the Euler angles' closed form against the numerical angles."""
+numerical and the symbolic kinematics; the Euler angles' closed form against the numerical angles; a task
+restricted to some rows."""
 
 from __future__ import annotations
 
@@ -139,3 +140,18 @@ def test_a_stacks_reduced_jacobian_is_j_s_formed_part_by_part():
         by_parts = reduced(qi)
         whole = np.asarray(task.jacobian(robot, qi, frames)) @ np.asarray(robot.S(qi))
         np.testing.assert_allclose(by_parts, whole, rtol=0, atol=1e-13)
+
+
+def _random_q(robot, n=5, seed=0):
+    return np.random.default_rng(seed).uniform(-2, 2, size=(n, robot.n_q))
+
+
+@pytest.mark.parametrize("task", [Position("xz"), EulerAngles("ZYX", select=(2, 0))])
+def test_task_rows_are_the_chosen_rows_of_the_full_task(task):
+    """A task restricted to some rows gives exactly those rows of the full task's value and Jacobian."""
+    robot = robots.manus_platform()
+    full = Position("xyz") if isinstance(task, Position) else EulerAngles("ZYX")
+    rows = [0, 2] if isinstance(task, Position) else [2, 0]
+    q = _random_q(robot, 3)
+    np.testing.assert_array_equal(K.jacobian(robot, q, task), np.asarray(K.jacobian(robot, q, full))[:, rows])
+    np.testing.assert_array_equal(K.forward(robot, q, task), np.asarray(K.forward(robot, q, full))[:, rows])

@@ -5,7 +5,8 @@ times in the compiled program. Here the stages run in one ``lax.scan`` over the 
 i and one-hot row e_i that store k_i into a buffer of the s slopes, the rows α^e_i, the node c_i): f is traced
 once, and the compiled program and its compilation time stay those of one evaluation of f whatever the number
 of stages. The stages' aux are written as one flat vector per stage (``ravel_pytree``): one output buffer
-instead of one per entry. Same values as the definition to rounding (tests/test_integration.py), and the same derivatives.
+instead of one per entry. Same values as the definition to rounding, and the same derivatives
+(tests/test_engine_runge_kutta.py).
 """
 
 from __future__ import annotations

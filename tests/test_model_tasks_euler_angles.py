@@ -1,5 +1,5 @@
-"""mobman.model.tasks: Euler-angle tasks (Jacobian against autodiff, round trip, the middle angle up to the gimbal
-lock), the planar angle, function tasks and row selection."""
+"""mobman.model.tasks.euler_angles: the Jacobian against autodiff, the round trip through the rotation matrix, the
+middle angle up to the gimbal lock."""
 
 from __future__ import annotations
 
@@ -13,18 +13,11 @@ import pytest
 from mobman import kinematics as K
 from mobman.model import (
     EulerAngles,
-    FunctionTask,
-    PlanarAngle,
     Position,
     robots,
     stack,
 )
 from mobman.model.spatial import euler_angles, euler_matrix
-from mobman.model.tasks import elbow_angle
-
-
-def _random_q(robot, n=5, seed=0):
-    return np.random.default_rng(seed).uniform(-2, 2, size=(n, robot.n_q))
 
 
 @pytest.mark.parametrize("sequence", ["ZYZ", "ZYX", "XYZ", "ZXZ"])
@@ -66,28 +59,3 @@ def test_middle_euler_angle_has_unit_derivative_up_to_the_gimbal_lock(sequence, 
     a2 = math.acos(margin)
     np.testing.assert_allclose(angles(a2), [0.4, a2, -0.8], atol=1e-7)
     np.testing.assert_allclose(jax.jacfwd(angles)(a2), [0.0, 1.0, 0.0], atol=1e-6)
-
-
-def test_planar_angle_equals_angle_sum():
-    robot = robots.bayle_planar()
-    q = np.array([0.0, 0.0, 0.2, 0.3, 0.4])
-    assert float(K.forward(robot, q, PlanarAngle())[0]) == pytest.approx(0.9)
-
-
-def test_function_task_elbow_angle():
-    robot = robots.korayem_planar()
-    task = FunctionTask(elbow_angle, ("beta",))
-    q = np.array([0, 0, 0, 0.3, 1.0])
-    assert float(K.forward(robot, q, task)[0]) == pytest.approx(math.pi - 1.0)
-    np.testing.assert_allclose(K.jacobian(robot, q, task), [[0, 0, 0, 0, -1]])
-
-
-@pytest.mark.parametrize("task", [Position("xz"), EulerAngles("ZYX", select=(2, 0))])
-def test_task_rows_are_the_chosen_rows_of_the_full_task(task):
-    """A task restricted to some rows gives exactly those rows of the full task's value and Jacobian."""
-    robot = robots.manus_platform()
-    full = Position("xyz") if isinstance(task, Position) else EulerAngles("ZYX")
-    rows = [0, 2] if isinstance(task, Position) else [2, 0]
-    q = _random_q(robot, 3)
-    np.testing.assert_array_equal(K.jacobian(robot, q, task), np.asarray(K.jacobian(robot, q, full))[:, rows])
-    np.testing.assert_array_equal(K.forward(robot, q, task), np.asarray(K.forward(robot, q, full))[:, rows])

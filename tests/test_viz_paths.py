@@ -1,4 +1,4 @@
-"""mobman.viz: geometry drawn matches the model layer; ellipses are the images of the unit ball."""
+"""mobman.viz.paths: the drawn frames, paths and robots match the model layer (forward kinematics)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,6 @@ from matplotlib.figure import Figure
 
 from mobman import kinematics as K
 from mobman import viz
-from mobman.errors import InputError
 from mobman.model import robots
 from mobman.model.tasks import MountPosition, Position
 
@@ -21,26 +20,6 @@ def korayem_run():
     t = np.linspace(0.0, 1.0, 12)
     q = np.stack([t, 0.3 * t, 0.8 * t, -1.0 + t, 1.0 + 0.5 * t], axis=1)
     return robot, q
-
-
-def test_ellipse_outline_satisfies_ellipse_equation():
-    rng = np.random.default_rng(0)
-    j = rng.normal(size=(4, 2, 3))
-    pts = viz.ellipse_outline(j, scale=1.0)
-    assert pts.shape == (4, 73, 2)
-    m = np.linalg.inv(j @ np.swapaxes(j, -1, -2))  # boundary of {J u : |u| ≤ 1}: pᵀ (J Jᵀ)⁻¹ p = 1
-    np.testing.assert_allclose(np.einsum("kni,kij,knj->kn", pts, m, pts), 1.0, rtol=1e-12)
-
-
-def test_ellipse_axes_and_singular_jacobian():
-    pts = viz.ellipse_outline(np.array([[2.0, 0.0], [0.0, 0.5]]), scale=0.1)
-    assert np.max(np.abs(pts[:, 0])) == pytest.approx(0.2)
-    assert np.max(np.abs(pts[:, 1])) == pytest.approx(0.05)
-    flat = viz.ellipse_outline(np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0]]))  # rank 1: a segment along (1, 2)
-    assert np.all(np.isfinite(flat))
-    np.testing.assert_allclose(flat[:, 0] * 2.0 - flat[:, 1], 0.0, atol=1e-12)
-    with pytest.raises(InputError, match="shape"):
-        viz.ellipse_outline(np.ones((3, 3)))
 
 
 def test_frame_points_match_kinematics(korayem_run):
@@ -85,17 +64,3 @@ def test_plot_paths_3d_and_ellipses(tmp_path):
     fig = viz.plot_ellipses(np.asarray(K.forward(robot, q))[:, :2], jac, scale=0.2)
     assert len([line for line in fig.axes[0].lines if line.get_label() != "_nolegend_"]) >= 5
     fig.savefig(tmp_path / "ellipses.png")
-
-
-def test_plot_timeseries_panels_and_bad_shape():
-    t = np.linspace(0.0, 1.0, 11)
-    fig = viz.plot_timeseries(
-        t,
-        {"w": {"w_a5": t, "w5": t**2}, "v (m/s)": {"v": np.sin(t)}},
-        hlines={"w": [0.9]},
-        events={"graining": [0.5]},
-    )
-    assert len(fig.axes) == 2
-    np.testing.assert_allclose(fig.axes[0].lines[1].get_ydata(), t**2)
-    with pytest.raises(InputError, match="w_a5"):
-        viz.plot_timeseries(t, {"w": {"w_a5": t[:5]}})

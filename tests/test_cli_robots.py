@@ -1,0 +1,21 @@
+"""`mobman robots` (mobman.cli.robots): the built-in robots as a table and as JSON."""
+
+import json
+
+from mobman.cli import main
+from mobman.model import robots
+
+
+def test_robots_json_lists_every_builtin_robot_with_its_defaults(capsys):
+    main(["robots", "--json"])
+    entries = {e["name"]: e for e in json.loads(capsys.readouterr().out)["robots"]}
+    assert set(entries) == set(robots.ROBOTS)
+    assert entries["korayem-planar"]["parameters"] == {"l0": 0.4, "l1": 0.5, "l2": 0.5}
+    assert entries["tchon-car-rtr"]["coordinates"] == list(robots.tchon_car_rtr().coordinate_names)
+
+
+def test_robots_table(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "300")  # wide enough that rich does not fold the names
+    main(["robots"])
+    out = capsys.readouterr().out
+    assert all(name in out for name in robots.ROBOTS)
