@@ -38,7 +38,8 @@ def read_text(path: Path, field: str, limit: int = MAX_FILE_BYTES) -> str:
     except OSError as exc:
         raise InputError(f"{field}: cannot read ({exc.strerror or exc})") from None
     if len(raw) > limit:
-        raise InputError(f"{field}: larger than {limit // 2**20} MiB")
+        size = f"{limit // 2**20} MiB" if limit >= 2**20 else f"{limit} bytes"
+        raise InputError(f"{field}: larger than {size}")
     if b"\0" in raw:
         raise InputError(f"{field}: binary content (a NUL byte at {raw.index(0)}); expected a text file")
     try:

@@ -104,19 +104,25 @@ def locate(path: Path | str) -> Path:
 def read(path: Path | str) -> list[Motion]:
     """The motions saved in a results folder or file (see :func:`locate`)."""
     file = locate(path)
+    text = read_text(file, f"--results {file}", limit=MAX_BYTES)
     try:
-        data = json.loads(read_text(file, f"--results {file}", limit=MAX_BYTES))
+        data = json.loads(text)
         motions = []
         for entry in data["motions"]:
             robot = entry["robot"]
+            parameters = robot.get("parameters", {}) if isinstance(robot, dict) else None
+            if not isinstance(parameters, dict):
+                raise ValueError("a motion's robot must be a table with a name and a table of parameters")
             t = np.asarray(entry["t"], dtype=float)
             q = np.asarray(entry["q"], dtype=float)
             if t.ndim != 1 or q.ndim != 2 or q.shape[0] != t.shape[0] or t.size == 0:
                 raise ValueError("t and q sizes differ")
-            params = tuple((str(k), float(v)) for k, v in robot.get("parameters", {}).items())
+            params = tuple((str(k), float(v)) for k, v in parameters.items())
             factory = str(robot.get("factory", ""))
             motions.append(Motion(str(entry["label"]), str(robot["name"]), params, t, q, factory))
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+    except RecursionError:
+        raise InputError(f"--results {file}: not a readable trajectories file (nested too deeply)") from None
+    except (ValueError, KeyError, TypeError) as exc:
         raise InputError(f"--results {file}: not a readable trajectories file ({exc})") from None
     if not motions:
         raise InputError(f"--results {file}: holds no motion")
