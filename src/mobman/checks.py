@@ -17,7 +17,7 @@ def finite(value: float, name: str, owner: str) -> float:
         raise ModelError(f"{owner}: {name} must be a number, got {value!r}")
     try:
         number = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ModelError(f"{owner}: {name} must be a number, got {value!r}") from None
     if not math.isfinite(number):
         raise ModelError(f"{owner}: {name} must be finite, got {value!r}")
@@ -53,7 +53,7 @@ def inertia_tensor(value: npt.ArrayLike, name: str, owner: str) -> tuple[float, 
     """A symmetric positive semi-definite 3 × 3 tensor (9 numbers row-major, or its diagonal as 3)."""
     try:
         tensor = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ModelError(f"{owner}: {name} must be 9 numbers (3 × 3, row-major) or 3 (diagonal)") from None
     if tensor.size == 3:
         tensor = np.diag(tensor.ravel())
