@@ -87,7 +87,8 @@ def log(rotation: jnp.ndarray) -> jnp.ndarray:
     diagonal = jnp.stack([outer[..., 0, 0], outer[..., 1, 1], outer[..., 2, 2]], -1)
     pick = jnp.argmax(diagonal, axis=-1)[..., None] == jnp.arange(3)
     column = jnp.sum(jnp.where(pick[..., None, :], outer, 0.0), axis=-1)
-    axis = column / jnp.sqrt(jnp.max(diagonal, axis=-1))[..., None]
+    # the picked entry itself (jnp.max's derivative would average over tied entries)
+    axis = column / jnp.sqrt(jnp.sum(jnp.where(pick, diagonal, 0.0), axis=-1))[..., None]
     sign = jnp.where(jnp.sum(axis * v, axis=-1) < 0.0, -1.0, 1.0)
     near_pi = axis * (sign * theta)[..., None]
     return jnp.where(wide[..., None], near_pi, near_zero)
