@@ -1,5 +1,6 @@
-"""The closed-form derivatives of a frame's pose and Jacobians (mobman.model.frame_jacobian), three ways:
-against autodiff through the chain, finite differences and a hand-derived kinematic Hessian."""
+"""The closed-form derivatives of a frame's pose and Jacobians (mobman.engine.frame_rule, the drop-in for
+mobman.model.frame_jacobian), three ways: against autodiff through the chain, finite differences and a
+hand-derived kinematic Hessian."""
 
 from __future__ import annotations
 
