@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import math
 
-import jax
-import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -15,37 +13,12 @@ from mobman.errors import ModelError
 from mobman.model import Arm, DifferentialDrive, Joint, MobileManipulator, robots
 from mobman.model.tasks import Elevation, task_class
 
-SPECIAL = (0.0, math.pi / 2, -math.pi / 2, math.pi)
-
-
-def _configurations(n_q: int, n: int = 10, seed: int = 0) -> np.ndarray:
-    """Heading and joints over the whole circle, some rows with every coordinate at 0, ±π/2, π."""
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(-math.pi, math.pi, size=(n, n_q))
-    q[:, :2] = rng.uniform(-3.0, 3.0, size=(n, 2))
-    for k, value in enumerate(SPECIAL):
-        q[k, 2:] = value
-        q[len(SPECIAL) + k, 2 + (k % (n_q - 2))] = value
-    return q
+from task_checks import autodiff, central_differences, configurations
 
 
 def _wrapped_difference(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a − b on the circle, in (−π, π]."""
     return np.angle(np.exp(1j * (np.asarray(a) - np.asarray(b))))
-
-
-def _central_differences(robot, task, q: np.ndarray, step: float = 1e-6) -> np.ndarray:
-    n_q = q.shape[-1]
-    shifted = (
-        q[:, None, None, :] + step * np.eye(n_q)[None, None] * np.array([1.0, -1.0])[None, :, None, None]
-    )
-    values = np.asarray(K.forward(robot, shifted, task))
-    return np.swapaxes(_wrapped_difference(values[:, 0], values[:, 1]) / (2 * step), 1, 2)
-
-
-def _autodiff(robot, task, q: np.ndarray) -> np.ndarray:
-    value = lambda qq: task.value(robot, qq, robot.frames(qq))  # noqa: E731
-    return np.asarray(jax.jit(jax.vmap(jax.jacfwd(value)))(jnp.asarray(q)))
 
 
 RRP = robots.bayle_rrp()
@@ -54,7 +27,7 @@ MANUS = robots.manus_platform()
 
 def test_elevation_of_the_rrp_arm_is_q5_over_the_whole_turn():
     """Bayle §5.2: ξ5 = q5, through the vertical (q5 = ±π/2) and past it, whatever the heading and q4."""
-    q = _configurations(RRP.n_q)
+    q = configurations(RRP.n_q)
     q[:, 5] = np.abs(q[:, 5])  # the prismatic joint's lower limit is 0
     got = np.asarray(K.forward(RRP, q, Elevation()))
     assert got.shape == (len(q), 1)
@@ -63,8 +36,10 @@ def test_elevation_of_the_rrp_arm_is_q5_over_the_whole_turn():
     expected = np.zeros((len(q), 1, RRP.n_q))
     expected[:, 0, 4] = 1.0
     np.testing.assert_allclose(np.asarray(K.jacobian(RRP, q, Elevation())), expected, rtol=0, atol=1e-14)
-    np.testing.assert_allclose(_central_differences(RRP, Elevation(), q), expected, rtol=0, atol=1e-8)
-    np.testing.assert_allclose(_autodiff(RRP, Elevation(), q), expected, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(
+        central_differences(RRP, Elevation(), q, angles=True), expected, rtol=0, atol=1e-8
+    )
+    np.testing.assert_allclose(autodiff(RRP, Elevation(), q), expected, rtol=0, atol=1e-14)
     assert not np.any(K.representation_singular(RRP, q, Elevation()))
 
 
@@ -72,7 +47,7 @@ def test_elevation_of_the_rrp_arm_is_q5_over_the_whole_turn():
 def test_elevation_of_each_manus_frame_is_its_absolute_lift_angle(link, joint):
     """The Manus's q_a2, q_a3 are absolute elevations (parallelogram coupling): the tool and the frame after
     joint 3 have elevation q_a3, the frame after joint 2 q_a2, the frame after joint 1 none."""
-    q = _configurations(MANUS.n_q, seed=1)
+    q = configurations(MANUS.n_q, seed=1)
     task = Elevation(link=link)
     got = np.asarray(K.forward(MANUS, q, task))[:, 0]
     expected_value = np.zeros(len(q)) if joint is None else q[:, joint]
@@ -82,7 +57,7 @@ def test_elevation_of_each_manus_frame_is_its_absolute_lift_angle(link, joint):
         expected[:, 0, joint] = 1.0
     jac = np.asarray(K.jacobian(MANUS, q, task))
     np.testing.assert_allclose(jac, expected, rtol=0, atol=1e-14)
-    np.testing.assert_allclose(_central_differences(MANUS, task, q), expected, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(central_differences(MANUS, task, q, angles=True), expected, rtol=0, atol=1e-8)
 
 
 def _roll_robot() -> MobileManipulator:

@@ -3,10 +3,6 @@ against a closed form, differences and autodiff, component selection and the con
 
 from __future__ import annotations
 
-import math
-
-import jax
-import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -15,37 +11,13 @@ from mobman.errors import ModelError
 from mobman.model import robots
 from mobman.model.tasks import MountPosition, task_class
 
-SPECIAL = (0.0, math.pi / 2, -math.pi / 2, math.pi)
-
-
-def _configurations(n_q: int, n: int = 10, seed: int = 0) -> np.ndarray:
-    """Heading and joints over the whole circle, the heading exactly at 0, ±π/2 and π in some rows."""
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(-math.pi, math.pi, size=(n, n_q))
-    q[:, :2] = rng.uniform(-3.0, 3.0, size=(n, 2))
-    q[: len(SPECIAL), 2] = SPECIAL
-    q[len(SPECIAL) : 2 * len(SPECIAL), 3:] = np.asarray(SPECIAL)[:, None]
-    return q
-
-
-def _central_differences(robot, task, q: np.ndarray, step: float = 1e-6) -> np.ndarray:
-    n_q = q.shape[-1]
-    shifted = (
-        q[:, None, None, :] + step * np.eye(n_q)[None, None] * np.array([1.0, -1.0])[None, :, None, None]
-    )
-    values = np.asarray(K.forward(robot, shifted, task))
-    return np.swapaxes((values[:, 0] - values[:, 1]) / (2 * step), 1, 2)
-
-
-def _autodiff(robot, task, q: np.ndarray) -> np.ndarray:
-    value = lambda qq: task.value(robot, qq, robot.frames(qq))  # noqa: E731
-    return np.asarray(jax.jit(jax.vmap(jax.jacfwd(value)))(jnp.asarray(q)))
+from task_checks import autodiff, central_differences, configurations
 
 
 def test_korayem_base_point_is_l0_ahead_of_the_axle():
     """Korayem eq. 37: F = (x + l0 cos θ, y + l0 sin θ); its Jacobian has no arm columns."""
     robot = robots.korayem_planar(l0=0.4)
-    q = _configurations(robot.n_q)
+    q = configurations(robot.n_q)
     x, y, theta = q[:, :3].T
     task = MountPosition()
     got = np.asarray(K.forward(robot, q, task))
@@ -57,8 +29,8 @@ def test_korayem_base_point_is_l0_ahead_of_the_axle():
     expected[:, 0, 2] = -0.4 * np.sin(theta)
     expected[:, 1, 2] = 0.4 * np.cos(theta)
     np.testing.assert_allclose(np.asarray(K.jacobian(robot, q, task)), expected, rtol=0, atol=1e-15)
-    np.testing.assert_allclose(_central_differences(robot, task, q), expected, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(_autodiff(robot, task, q), expected, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(central_differences(robot, task, q), expected, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(autodiff(robot, task, q), expected, rtol=0, atol=1e-15)
     # J̄ = J S: the base point moves with v along the heading and l0 ω across it
     reduced = np.asarray(K.reduced_jacobian(robot, q, task))
     np.testing.assert_allclose(reduced[:, :, 0], np.stack([np.cos(theta), np.sin(theta)], -1), atol=1e-15)
@@ -69,15 +41,15 @@ def test_korayem_base_point_is_l0_ahead_of_the_axle():
 def test_spatial_mount_of_the_manus_with_every_component():
     """Nait-Chabane's arm base (a, b, c) in the platform frame: (x, y, 0) + R_z(θ) (a, b, c)."""
     robot = robots.manus_platform(a=0.12, b=-0.05, c=0.4)
-    q = _configurations(robot.n_q, seed=1)
+    q = configurations(robot.n_q, seed=1)
     x, y, theta = q[:, :3].T
     c, s = np.cos(theta), np.sin(theta)
     expected = np.stack([x + 0.12 * c + 0.05 * s, y + 0.12 * s - 0.05 * c, np.full_like(x, 0.4)], -1)
     task = MountPosition("xyz")
     np.testing.assert_allclose(np.asarray(K.forward(robot, q, task)), expected, rtol=0, atol=1e-15)
     jac = np.asarray(K.jacobian(robot, q, task))
-    np.testing.assert_allclose(jac, _central_differences(robot, task, q), rtol=0, atol=1e-9)
-    np.testing.assert_allclose(jac, _autodiff(robot, task, q), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(jac, central_differences(robot, task, q), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(jac, autodiff(robot, task, q), rtol=0, atol=1e-15)
     np.testing.assert_array_equal(jac[:, 2], 0.0)
     np.testing.assert_array_equal(jac[:, :, 3:], 0.0)
 
@@ -85,7 +57,7 @@ def test_spatial_mount_of_the_manus_with_every_component():
 @pytest.mark.parametrize("components, rows", [("yx", [1, 0]), ("z", [2]), ("xy", [0, 1])])
 def test_components_select_and_order_the_rows(components, rows):
     robot = robots.manus_platform()
-    q = _configurations(robot.n_q, seed=2)[:4]
+    q = configurations(robot.n_q, seed=2)[:4]
     task = MountPosition(components)
     assert task.names == tuple(f"{c}_f" for c in components)
     full = np.asarray(K.forward(robot, q, MountPosition("xyz")))
@@ -94,7 +66,7 @@ def test_components_select_and_order_the_rows(components, rows):
 
 def test_second_arm_mount_of_the_dual_arm_robot_is_the_axle_midpoint():
     robot = robots.yamamoto_dual_arm()
-    q = _configurations(robot.n_q, seed=3)
+    q = configurations(robot.n_q, seed=3)
     np.testing.assert_allclose(np.asarray(K.forward(robot, q, MountPosition(arm=1))), q[:, :2], atol=1e-15)
 
 

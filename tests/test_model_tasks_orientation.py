@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -16,6 +15,8 @@ from mobman.errors import ModelError
 from mobman.model import robots
 from mobman.model.tasks import REPRESENTATION_TOL, task_kinds
 from mobman.model.tasks.orientation import OrientationTask
+
+from task_checks import autodiff, central_differences, configurations
 
 
 @dataclass(frozen=True)
@@ -47,35 +48,8 @@ def _rot_y(a: np.ndarray) -> np.ndarray:
     return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
 
 
-SPECIAL = (0.0, math.pi / 2, -math.pi / 2, math.pi)
-
-
-def _configurations(n_q: int, n: int = 10, seed: int = 0) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(-math.pi, math.pi, size=(n, n_q))
-    q[:, :2] = rng.uniform(-3.0, 3.0, size=(n, 2))
-    for k, value in enumerate(SPECIAL):
-        q[k, 2:] = value
-        q[len(SPECIAL) + k, 2 + (k % (n_q - 2))] = value
-    return q
-
-
-def _central_differences(robot, task, q: np.ndarray, step: float = 1e-6) -> np.ndarray:
-    n_q = q.shape[-1]
-    shifted = (
-        q[:, None, None, :] + step * np.eye(n_q)[None, None] * np.array([1.0, -1.0])[None, :, None, None]
-    )
-    values = np.asarray(K.forward(robot, shifted, task))
-    return np.swapaxes((values[:, 0] - values[:, 1]) / (2 * step), 1, 2)
-
-
-def _autodiff(robot, task, q: np.ndarray) -> np.ndarray:
-    value = lambda qq: task.value(robot, qq, robot.frames(qq))  # noqa: E731
-    return np.asarray(jax.jit(jax.vmap(jax.jacfwd(value)))(jnp.asarray(q)))
-
-
 MANUS = robots.manus_platform()
-Q_MANUS = _configurations(MANUS.n_q)
+Q_MANUS = configurations(MANUS.n_q)
 
 
 def _manus_rotations(q: np.ndarray) -> list[np.ndarray]:
@@ -98,8 +72,8 @@ def test_chain_rule_jacobian_matches_differences_and_autodiff(link):
     task = Entries(link=link)
     jac = np.asarray(K.jacobian(MANUS, Q_MANUS, task))
     assert jac.shape == (len(Q_MANUS), 3, MANUS.n_q)
-    np.testing.assert_allclose(jac, _central_differences(MANUS, task, Q_MANUS), rtol=0, atol=1e-8)
-    np.testing.assert_allclose(jac, _autodiff(MANUS, task, Q_MANUS), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(jac, central_differences(MANUS, task, Q_MANUS), rtol=0, atol=1e-8)
+    np.testing.assert_allclose(jac, autodiff(MANUS, task, Q_MANUS), rtol=0, atol=1e-14)
     if link == 1:  # the frame after joint 2 does not move with q_a3
         np.testing.assert_array_equal(jac[:, :, 5], 0.0)
     np.testing.assert_array_equal(jac[:, :, :2], 0.0)  # rotations do not depend on the platform position
@@ -107,12 +81,12 @@ def test_chain_rule_jacobian_matches_differences_and_autodiff(link):
 
 def test_jacobian_of_a_frame_of_the_second_arm():
     robot = robots.yamamoto_dual_arm()
-    q = _configurations(robot.n_q, seed=1)
+    q = configurations(robot.n_q, seed=1)
     task = Entries(arm=1, link=1)
     expected = _g(_rot_z(q[:, 2] + q[:, 6] + q[:, 7]))
     np.testing.assert_allclose(np.asarray(K.forward(robot, q, task)), expected, rtol=0, atol=1e-15)
     jac = np.asarray(K.jacobian(robot, q, task))
-    np.testing.assert_allclose(jac, _central_differences(robot, task, q), rtol=0, atol=1e-8)
+    np.testing.assert_allclose(jac, central_differences(robot, task, q), rtol=0, atol=1e-8)
     np.testing.assert_array_equal(jac[:, :, 3:6], 0.0)  # the first arm
     np.testing.assert_array_equal(jac[:, :, 8], 0.0)  # joint 3 of the second arm, after the frame
 

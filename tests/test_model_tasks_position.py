@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 
-import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -15,39 +14,12 @@ from mobman.errors import ModelError
 from mobman.model import robots
 from mobman.model.tasks import Position
 
-SPECIAL = (0.0, math.pi / 2, -math.pi / 2, math.pi)
-
-
-def _configurations(n_q: int, n: int = 9, seed: int = 0) -> np.ndarray:
-    """Platform positions in [−3, 3], the heading and every joint over the whole circle; some rows have
-    coordinates exactly at 0, ±π/2 and π."""
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(-math.pi, math.pi, size=(n, n_q))
-    q[:, :2] = rng.uniform(-3.0, 3.0, size=(n, 2))
-    for k, value in enumerate(SPECIAL):
-        q[k, 2:] = value
-        q[len(SPECIAL) + k, 2 + (k % (n_q - 2))] = value
-    return q
+from task_checks import autodiff, central_differences, configurations
 
 
 def _rot_z(angle: float) -> np.ndarray:
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def _central_differences(robot, task, q: np.ndarray, step: float = 1e-6) -> np.ndarray:
-    """(N, m, n_q) central differences of the task's value, from one batched forward call."""
-    n_q = q.shape[-1]
-    shifted = (
-        q[:, None, None, :] + step * np.eye(n_q)[None, None] * np.array([1.0, -1.0])[None, :, None, None]
-    )
-    values = np.asarray(K.forward(robot, shifted, task))
-    return np.swapaxes((values[:, 0] - values[:, 1]) / (2 * step), 1, 2)
-
-
-def _autodiff(robot, task, q: np.ndarray) -> np.ndarray:
-    value = lambda qq: task.value(robot, qq, robot.frames(qq))  # noqa: E731
-    return np.asarray(jax.jit(jax.vmap(jax.jacfwd(value)))(jnp.asarray(q)))
 
 
 def _bayle_planar_points(q: np.ndarray, l1: float = 0.5, l2: float = 0.5) -> list[np.ndarray]:
@@ -60,7 +32,7 @@ def _bayle_planar_points(q: np.ndarray, l1: float = 0.5, l2: float = 0.5) -> lis
 
 
 BAYLE = robots.bayle_planar()
-Q_BAYLE = _configurations(BAYLE.n_q)
+Q_BAYLE = configurations(BAYLE.n_q)
 
 
 @pytest.mark.parametrize("link", [-1, 0, 1])
@@ -95,8 +67,8 @@ def test_planar_tool_jacobian_matches_its_closed_form_differences_and_autodiff()
     )
     jac = np.asarray(K.jacobian(BAYLE, Q_BAYLE, task))
     np.testing.assert_allclose(jac, expected, rtol=0, atol=1e-14)
-    np.testing.assert_allclose(_central_differences(BAYLE, task, Q_BAYLE), expected, rtol=0, atol=1e-8)
-    np.testing.assert_allclose(_autodiff(BAYLE, task, Q_BAYLE), expected, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(central_differences(BAYLE, task, Q_BAYLE), expected, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(autodiff(BAYLE, task, Q_BAYLE), expected, rtol=0, atol=1e-14)
     # J̄ = J S with the differential drive's S = [(cos θ, sin θ, 0), (0, 0, 1)] in the platform columns
     reduced = np.asarray(K.reduced_jacobian(BAYLE, Q_BAYLE, task))
     forward_speed = expected[:, :, 0] * np.cos(theta)[:, None] + expected[:, :, 1] * np.sin(theta)[:, None]
@@ -105,7 +77,7 @@ def test_planar_tool_jacobian_matches_its_closed_form_differences_and_autodiff()
 
 
 MANUS = robots.manus_platform()
-Q_MANUS = _configurations(MANUS.n_q, seed=1)
+Q_MANUS = configurations(MANUS.n_q, seed=1)
 
 
 def _manus_tool(q: np.ndarray, L2=0.12, L3=0.35, L4=0.35, a=0.12, b=0.12, c=0.4) -> np.ndarray:
@@ -124,13 +96,13 @@ def test_spatial_tool_position_and_jacobian_of_the_manus():
     np.testing.assert_allclose(np.asarray(K.forward(MANUS, Q_MANUS, task)), _manus_tool(Q_MANUS), atol=1e-14)
     jac = np.asarray(K.jacobian(MANUS, Q_MANUS, task))
     assert jac.shape == (len(Q_MANUS), 3, MANUS.n_q)
-    np.testing.assert_allclose(jac, _central_differences(MANUS, task, Q_MANUS), rtol=0, atol=1e-8)
-    np.testing.assert_allclose(jac, _autodiff(MANUS, task, Q_MANUS), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(jac, central_differences(MANUS, task, Q_MANUS), rtol=0, atol=1e-8)
+    np.testing.assert_allclose(jac, autodiff(MANUS, task, Q_MANUS), rtol=0, atol=1e-13)
 
 
 def test_mounted_arm_tool_position_of_korayem_planar():
     robot = robots.korayem_planar(l0=0.4, l1=0.5, l2=0.5)
-    q = _configurations(robot.n_q, seed=2)
+    q = configurations(robot.n_q, seed=2)
     x, y, theta, t1, t2 = q.T
     expected = np.stack(
         [
@@ -141,12 +113,12 @@ def test_mounted_arm_tool_position_of_korayem_planar():
     )
     np.testing.assert_allclose(np.asarray(K.forward(robot, q)), expected, rtol=0, atol=1e-14)
     jac = np.asarray(K.jacobian(robot, q))
-    np.testing.assert_allclose(jac, _central_differences(robot, robot.task, q), rtol=0, atol=1e-8)
+    np.testing.assert_allclose(jac, central_differences(robot, robot.task, q), rtol=0, atol=1e-8)
 
 
 def test_second_arm_of_the_dual_arm_robot():
     robot = robots.yamamoto_dual_arm()
-    q = _configurations(robot.n_q, n=8, seed=3)
+    q = configurations(robot.n_q, n=8, seed=3)
     x, y, theta = q[:, :3].T
     angles = theta[:, None] + np.cumsum(q[:, 6:9], axis=1)
     expected = np.stack([x + 0.5 * np.cos(angles).sum(1), y + 0.5 * np.sin(angles).sum(1)], -1)

@@ -3,8 +3,6 @@ concatenated (against the parts alone and a planar closed form), flattening, err
 
 from __future__ import annotations
 
-import math
-
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -24,17 +22,7 @@ from mobman.model.tasks import (
     task_class,
 )
 
-SPECIAL = (0.0, math.pi / 2, -math.pi / 2, math.pi)
-
-
-def _configurations(n_q: int, n: int = 10, seed: int = 0) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(-math.pi, math.pi, size=(n, n_q))
-    q[:, :2] = rng.uniform(-3.0, 3.0, size=(n, 2))
-    for k, value in enumerate(SPECIAL):
-        q[k, 2:] = value
-        q[len(SPECIAL) + k, 2 + (k % (n_q - 2))] = value
-    return q
+from task_checks import configurations
 
 
 def _wrapped(a: np.ndarray) -> np.ndarray:
@@ -42,7 +30,7 @@ def _wrapped(a: np.ndarray) -> np.ndarray:
 
 
 BAYLE = robots.bayle_planar()
-Q = _configurations(BAYLE.n_q)
+Q = configurations(BAYLE.n_q)
 
 
 def test_bayle_planar_stack_is_tool_position_and_heading():
