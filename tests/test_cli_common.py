@@ -324,6 +324,13 @@ def test_read_configurations_accepts_spaces_around_header_names(tmp_path, robot)
     assert common.read_configurations(path, robot).shape == (1, 5)
 
 
+def test_read_configurations_reads_expressions_as_on_the_command_line(tmp_path, robot):
+    path = _csv(tmp_path, "0,0,pi/2,-pi,0.5\n1,2,3,4,5\n")
+    np.testing.assert_array_equal(
+        common.read_configurations(path, robot), [[0, 0, np.pi / 2, -np.pi, 0.5], [1, 2, 3, 4, 5]]
+    )
+
+
 @pytest.mark.parametrize(
     ("text", "fragments"),
     [
@@ -337,7 +344,7 @@ def test_read_configurations_accepts_spaces_around_header_names(tmp_path, robot)
         ("x,y,theta,shoulder\n0,0,0,0\n", ("header", "does not match coordinates")),
         ("0,0,0,0\n", ("row 1", "expected 5 values, got 4")),
         ("0,0,0,0,0\n0,0,0,0,0,0\n", ("row 2", "expected 5 values, got 6")),
-        ("0,0,0,0,0\n0,0,zero,0,0\n", ("row 2 is not numeric",)),
+        ("0,0,0,0,0\n0,0,zero,0,0\n", ("row 2: 'zero' is not",)),
         ("0,0,0,0,0\n0,0,nan,0,0\n", ("row 2",)),
         ("0,0,0,inf,0\n", ("row 1",)),
     ],

@@ -167,13 +167,14 @@ def load_dynamics(
 
 
 def read_configurations(path: Path, robot: MobileManipulator) -> np.ndarray:
-    """Configurations from a CSV file: one per row in the robot's coordinate order, optional header line."""
+    """Configurations from a CSV file: one per row in the robot's coordinate order, each value a number or an
+    expression as on the command line (``pi/2``); an optional header line of the coordinate names."""
     text = read_text(path, f"--q-file {path}")
     try:
         rows = [row for row in csv.reader(text.splitlines()) if row and any(cell.strip() for cell in row)]
     except csv.Error as exc:
         raise InputError(f"--q-file {path}: not a CSV file ({exc})") from None
-    if rows and not _numeric(rows[0]):
+    if rows and _is_header(rows[0]):
         header = [c.strip() for c in rows[0]]
         if header != list(robot.coordinate_names):
             raise InputError(
@@ -182,17 +183,18 @@ def read_configurations(path: Path, robot: MobileManipulator) -> np.ndarray:
         rows = rows[1:]
     if not rows:
         raise InputError(f"--q-file {path}: no configurations")
-    out = []
-    for i, row in enumerate(rows, start=1):
-        if not _numeric(row):
-            raise InputError(f"--q-file {path}: row {i} is not numeric")
-        out.append(parse_vector(",".join(row), f"--q-file {path} row {i}", robot.n_q))
-    return np.stack(out)
+    rows_q = [
+        parse_vector(",".join(row), f"--q-file {path} row {i}", robot.n_q) for i, row in enumerate(rows, 1)
+    ]
+    return np.stack(rows_q)
 
 
-def _numeric(row: list[str]) -> bool:
-    try:
-        [float(c) for c in row]
-        return True
-    except ValueError:
+def _is_header(row: list[str]) -> bool:
+    """A header names the coordinates: none of its cells is a number or an expression."""
+    for cell in row:
+        try:
+            parse_number(cell, "")
+        except InputError:
+            continue
         return False
+    return True
