@@ -178,7 +178,9 @@ def analyze_command(
         None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."
     ),
     q_file: Path = typer.Option(
-        None, "--q-file", help="CSV file: one configuration per row, optional header."
+        None,
+        "--q-file",
+        help="CSV file: one configuration per row (numbers or expressions such as pi/2), optional header of the coordinate names.",
     ),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     symbolic: bool = typer.Option(
