@@ -180,7 +180,8 @@ def analyze_command(
     q_file: Path = typer.Option(
         None,
         "--q-file",
-        help="CSV file: one configuration per row (numbers or expressions such as pi/2), optional header of the coordinate names.",
+        help="CSV file: one configuration per row (numbers or expressions such as pi/2), optional header "
+        "of the coordinate names.",
     ),
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     symbolic: bool = typer.Option(
