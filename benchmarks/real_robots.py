@@ -120,6 +120,15 @@ def main(argv=None) -> int:
     single()
     t_single = best_time(single, 3) / args.single
     t_pin = best_time(lambda: pinocchio_kinematics(pin_model, q_pin), 3) / args.single
+    # the fixed cost of any compiled call with a NumPy argument: the floor of a one-configuration call
+    identity = jax.jit(lambda x: x)
+
+    def floor():
+        for qi in q[: args.single]:
+            jax.block_until_ready(identity(qi))
+
+    floor()
+    t_floor = best_time(floor, 3) / args.single
 
     nd = args.n_dynamics
     q_dyn, eta_dyn = jax.device_put(q[:nd]), jax.device_put(eta[:nd])
@@ -161,6 +170,7 @@ def main(argv=None) -> int:
         ("J̄ + measures, batched (mobman)", t_batch, t_pin / t_batch),
         ("J̄ + measures, one configuration per call (mobman)", t_single, t_pin / t_single),
         ("Pinocchio computeFrameJacobian + columns + NumPy SVD", t_pin, 1.0),
+        ("a compiled call of the identity (JAX's cost per call)", t_floor, t_pin / t_floor),
         ("Sᵀ M S, bias and B, batched (mobman)", t_dyn_batch, t_dyn_pin / t_dyn_batch),
         ("Sᵀ M S, bias and B, one configuration per call (mobman)", t_dyn_single, t_dyn_pin / t_dyn_single),
         ("Pinocchio crba + rnea", t_dyn_pin, 1.0),
