@@ -183,10 +183,9 @@ def read_configurations(path: Path, robot: MobileManipulator) -> np.ndarray:
         rows = rows[1:]
     if not rows:
         raise InputError(f"--q-file {path}: no configurations")
-    rows_q = [
-        parse_vector(",".join(row), f"--q-file {path} row {i}", robot.n_q) for i, row in enumerate(rows, 1)
-    ]
-    return np.stack(rows_q)
+    return np.stack(
+        [parse_vector(",".join(row), f"--q-file {path} row {i}", robot.n_q) for i, row in enumerate(rows, 1)]
+    )
 
 
 def _is_header(row: list[str]) -> bool:
