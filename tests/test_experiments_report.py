@@ -66,6 +66,11 @@ def test_report_md_starts_with_the_title_and_links_the_figures(tmp_path):
     assert text.endswith("\n")
 
 
+def test_figures_in_a_subfolder_are_linked_by_their_path_from_the_report(tmp_path):
+    _reproduction({}, [tmp_path / "figures" / "paths.png"]).write(tmp_path)
+    assert (tmp_path / "report.md").read_text().rstrip().endswith("![paths](figures/paths.png)")
+
+
 def test_report_without_figures_has_no_image_links(tmp_path):
     _reproduction({}).write(tmp_path)
     text = (tmp_path / "report.md").read_text(encoding="utf-8")

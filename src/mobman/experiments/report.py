@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -25,7 +26,8 @@ class Reproduction:
     figures: list[Path] = field(default_factory=list)
 
     def write(self, out: Path) -> None:
-        """Write ``results.json`` and ``report.md`` into ``out`` (figures are written by the experiment)."""
+        """Write ``results.json`` and ``report.md`` into ``out`` (figures are written by the experiment; the report
+        links them relative to ``out``)."""
         write_text(out / "results.json", dump_json(self.results))
-        figures = "\n".join(f"![{p.stem}]({p.name})" for p in self.figures)
+        figures = "\n".join(f"![{p.stem}]({Path(os.path.relpath(p, out)).as_posix()})" for p in self.figures)
         write_text(out / "report.md", f"# {self.title}\n\n{self.report}\n\n{figures}\n")
