@@ -96,6 +96,12 @@ EXAMPLES = {
         None,
         None,
     ),
+    "mobman.model.spatial.shared": (
+        [(RNG.normal(size=(4, 3)),), (_rotations(2),), (ANGLES,)],
+        0,
+        None,
+        None,
+    ),
     "mobman.model.spatial.cross": (
         [
             (RNG.normal(size=(5, 3)), RNG.normal(size=(5, 3))),
@@ -178,6 +184,12 @@ def test_drop_in_equals_its_definition_with_its_derivative(name):
         x = jnp.asarray(args[wrt], dtype=float)
         _assert_close(jax.jit(tuned)(x), jax.jit(plain)(x), 1e-12)
         _assert_close(jax.jit(jax.jacfwd(tuned))(x), jax.jit(jax.jacfwd(plain))(x), 1e-9)
+        # batched (drop-ins may take another path under vmap): two copies, values and derivatives
+        pair = jnp.stack([x, x])
+        _assert_close(jax.jit(jax.vmap(tuned))(pair), jax.jit(jax.vmap(plain))(pair), 1e-12)
+        _assert_close(
+            jax.jit(jax.vmap(jax.jacfwd(tuned)))(pair), jax.jit(jax.vmap(jax.jacfwd(plain)))(pair), 1e-9
+        )
 
 
 def test_a_definition_runs_its_drop_in_and_keeps_the_plain_function():

@@ -13,4 +13,4 @@
 Importing the package registers every drop-in.
 """
 
-from mobman.engine import frame_rule, linalg, products  # noqa: F401  (registers the drop-ins)
+from mobman.engine import frame_rule, fusion, linalg, products  # noqa: F401  (registers the drop-ins)

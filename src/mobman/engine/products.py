@@ -21,6 +21,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from mobman.engine.fusion import computed_once_in_batches
 from mobman.engine.kernels import drop_in
 
 
@@ -85,10 +86,13 @@ def constant_combination(matrices: Sequence[np.ndarray], factors: Sequence[jnp.n
 @drop_in("mobman.model.arm.rodrigues")
 def rodrigues(r_o: np.ndarray, k: np.ndarray, angle: jnp.ndarray) -> jnp.ndarray:
     """R_o (I + sin θ K + (1 − cos θ) K²) as Σ f_n M_n with the constants M_n = R_o, R_o K, R_o K²
-    (:func:`constant_combination`)."""
+    (:func:`constant_combination`); sin θ and 1 − cos θ are computed once for all nine entries
+    (:func:`~mobman.engine.fusion.computed_once_in_batches`)."""
     r_o, k = np.asarray(r_o, dtype=float), np.asarray(k, dtype=float)
-    factors = (jnp.ones_like(angle), jnp.sin(angle), 1.0 - jnp.cos(angle))
-    return constant_combination((r_o, r_o @ k, r_o @ k @ k), factors)
+    sin, one_minus_cos = unstack(
+        computed_once_in_batches(jnp.stack([jnp.sin(angle), 1.0 - jnp.cos(angle)], -1))
+    )
+    return constant_combination((r_o, r_o @ k, r_o @ k @ k), (jnp.ones_like(angle), sin, one_minus_cos))
 
 
 @drop_in("mobman.model.spatial.cross")

@@ -196,7 +196,8 @@ class Arm:
             base = (jnp.broadcast_to(np.eye(3), batch + (3, 3)), jnp.zeros(batch + (3,)))
         pose, rs, ps = base, [], []
         for joint, v in zip(self.joints, spatial.unstack(self.motion_variables(q_a))):
-            pose = joint.pose_after(pose, v)
+            r, p = joint.pose_after(pose, v)
+            pose = spatial.shared(r), spatial.shared(p)  # read by every later link
             rs.append(pose[0])
             ps.append(pose[1])
         r_tool, p_tool = spatial.compose_fixed_pose(pose, self.tool)

@@ -110,6 +110,14 @@ def unstack(a: jnp.ndarray, axis: int = -1) -> list[jnp.ndarray]:
 
 
 @definition
+def shared(x: jnp.ndarray) -> jnp.ndarray:
+    """x itself: marks a value that many later values read, such as the pose of a link of a chain (every
+    pose after it and every column of a Jacobian reads it). The engine's drop-in has a batched program
+    compute it once instead of once per reader (:mod:`mobman.engine.fusion`)."""
+    return x
+
+
+@definition
 def cross(a: jnp.ndarray, b: jnp.ndarray, axis: int = -1) -> jnp.ndarray:
     """Cross product along ``axis`` (the last by default; 0 for the columns of 3 × n matrices)."""
     return jnp.cross(a, b, axis=axis)
