@@ -1,7 +1,9 @@
-"""mobman.dynamics.reduced: the reduced bias as the projection of the full equations, inverse and forward
-dynamics, the constraint forces dropping out, the public functions inside a user's vmap and their size errors."""
+"""mobman.dynamics.reduced: the reduced bias as the projection of the full equations, Ṡ η and B against their
+definitions, inverse and forward dynamics, the constraint forces dropping out, the public functions inside a user's vmap and their size errors."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
@@ -9,8 +11,12 @@ import pytest
 import mobman
 from mobman import dynamics as dyn
 from mobman import kinematics
+from mobman.dynamics import equations, reduced
+from mobman.io.real_robots import urdf_model
 
 from dynamics_model import MODEL, random_states
+
+TIAGO = dyn.DynamicModel.from_urdf(urdf_model("tiago"))
 
 
 @pytest.fixture(scope="module")
@@ -31,6 +37,23 @@ def test_reduced_bias_equals_projection_of_full_equations(states):
     full = np.einsum("kij,kjl,kl->ki", m, s_dot, eta) + np.asarray(dyn.bias(MODEL, q, q_dot))
     expected = np.einsum("kji,kj->ki", s, full)
     assert np.allclose(np.asarray(dyn.reduced_bias(MODEL, q, eta)), expected, atol=1e-6)
+
+
+@pytest.mark.parametrize("model", [MODEL, TIAGO], ids=["yamamoto", "tiago"])
+def test_s_dot_eta_and_the_input_matrix_equal_their_definitions(model, states):
+    """Ṡ η against central differences of S along q̇ = S η, and B = Sᵀ E with S formed."""
+    robot = model.robot
+    rng = np.random.default_rng(11)
+    q = rng.uniform(-math.pi, math.pi, (6, robot.n_q))
+    q[:3, 2] = (-math.pi / 2, math.pi / 2, math.pi)
+    eta = rng.normal(size=(6, robot.n_eta))
+    h = 1e-6
+    for x, e in zip(q, eta):
+        q_dot = np.asarray(robot.S(x)) @ e
+        s_dot = (np.asarray(robot.S(x + h * q_dot)) - np.asarray(robot.S(x - h * q_dot))) / (2 * h)
+        np.testing.assert_allclose(np.asarray(reduced.s_dot_eta(model, x, e)), s_dot @ e, atol=1e-8)
+        b_mat = np.asarray(robot.S(x)).T @ np.asarray(equations.actuation_matrix_one(model, x))
+        np.testing.assert_allclose(np.asarray(reduced.input_matrix_one(model, x)), b_mat, atol=1e-14)
 
 
 def test_inverse_and_forward_dynamics_round_trip(states):

@@ -68,7 +68,7 @@ EXAMPLES = {
         None,
         None,
     ),
-    "mobman.model.tasks.base.rows": (
+    "mobman.model.spatial.rows": (
         [
             (RNG.normal(size=(6, 9)), (0, 2, 5)),
             (RNG.normal(size=(3, 4)), (0, 1, 2)),

@@ -59,3 +59,16 @@ def test_models_are_hashable_and_equal_by_value():
 def test_bad_model_input_raises_model_error(make, match):
     with pytest.raises(mobman.ModelError, match=match):
         make()
+
+
+@pytest.mark.parametrize("name", sorted(robots.PAPER_ROBOTS) + ["panda-differential"])
+def test_q_dot_is_S_times_eta_over_the_whole_range(name):
+    """robot.q_dot(q, η) = S(q) η without forming S, for every kind of platform, θ at ±π/2 and π too."""
+    robot = robots.build(name)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(-math.pi, math.pi, (8, robot.n_q))
+    q[:4, 2] = (-math.pi / 2, math.pi / 2, math.pi, -math.pi)
+    eta = rng.normal(size=(8, robot.n_eta))
+    s = np.asarray(K.S(robot, q))
+    for qi, ei, si in zip(q, eta, s):
+        np.testing.assert_allclose(np.asarray(robot.q_dot(qi, ei)), si @ ei, rtol=0, atol=1e-14)

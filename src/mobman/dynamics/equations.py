@@ -68,7 +68,7 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
     robot = model.robot
     r_p, p_p = frames.platform
     result = [
-        Body(part.mass, p_p + r_p @ np.asarray(part.centre), r_p, part.inertia, None, 0)
+        Body(part.mass, p_p + spatial.matvec_constant(r_p, part.centre), r_p, part.inertia, None, 0)
         for part in robot.platform.inertia_bodies(model.body, model.wheel)
     ]
     for i, arm in enumerate(robot.arms):
@@ -76,7 +76,7 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
         for j, joint in enumerate(arm.joints):
             inertial = joint.inertial
             assert inertial is not None  # DynamicModel checks that every joint has one
-            point: jnp.ndarray | np.ndarray = ps[j] + rs[j] @ np.asarray(inertial.com)
+            point = ps[j] + spatial.matvec_constant(rs[j], inertial.com)
             result.append(Body(inertial.mass, point, rs[j], inertial.inertia_matrix, i, j))
     payload = model.payload
     if payload is not None:
@@ -85,7 +85,7 @@ def bodies(model: DynamicModel, frames: Frames, payload_mass: float | None = Non
         if payload.mass > 0:
             rs, ps = frames.links[payload.arm]
             n = robot.arms[payload.arm].n_joints
-            point = ps[n] + rs[n] @ np.asarray(payload.com)
+            point = ps[n] + spatial.matvec_constant(rs[n], payload.com)
             result.append(
                 Body(
                     payload.mass,
@@ -113,7 +113,7 @@ def wheel_rows(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
     """Rows a_i (one per driven wheel × n_q) with the wheel's spin φ̇_i = a_i · q̇: the row of the actuator
     that turns it (:func:`actuator_rows`)."""
     rows = actuator_rows(model, q)
-    return rows[np.array([site.actuator for site in _driven_wheels(model)], dtype=int)]
+    return spatial.rows(rows, tuple(site.actuator for site in _driven_wheels(model)))
 
 
 class BodyJacobians(NamedTuple):
@@ -185,7 +185,7 @@ def _tree(
     )
 
     def rows(index: list[int]) -> recursive.RigidInertia:
-        return recursive.RigidInertia(*(x[np.asarray(index, dtype=int)] for x in every))
+        return recursive.RigidInertia(*(spatial.rows(x, tuple(index)) for x in every))
 
     root = rows([k for k, body in enumerate(parts) if body.arm is None])
     chains = []
@@ -251,8 +251,8 @@ def mass_matrix_one(
     if spin is not None:
         a = wheel_rows(model, q)
         if platform_basis is not None:
-            a = jnp.concatenate([a[:, :n_p] @ basis, a[:, n_p:]], axis=1)
-        m = m + spin.I_w * a.T @ a
+            a = jnp.concatenate([spatial.matmul_expanded(a[:, :n_p], basis), a[:, n_p:]], axis=1)
+        m = m + spin.I_w * spatial.matmul_expanded(a.T, a)
     return m
 
 
@@ -281,10 +281,10 @@ def _wheel_spin_force(model: DynamicModel, q: jax.Array, q_dot: jax.Array, q_ddo
 
     def momentum(x, v):
         a_rows = wheel_rows(model, x)
-        return spin.I_w * a_rows.T @ (a_rows @ v)
+        return spin.I_w * spatial.matvec(a_rows.T, spatial.matvec(a_rows, v))
 
     return jax.jvp(momentum, (q, q_dot), (q_dot, q_ddot))[1] - jax.grad(
-        lambda x: 0.5 * q_dot @ momentum(x, q_dot)
+        lambda x: 0.5 * jnp.sum(q_dot * momentum(x, q_dot))
     )(q)
 
 
@@ -342,7 +342,9 @@ def generalized_force_one(
         jnp.split(motion[0], np.cumsum(sizes)[:-1]),
         jnp.split(motion[1], np.cumsum(sizes)[:-1]),
     )
-    forces = jnp.concatenate([q_p, *(t @ arm.coupling_matrix for t, arm in zip(tau, robot.arms))])
+    forces = jnp.concatenate(
+        [q_p, *(t if arm.coupling is None else t @ arm.coupling_matrix for t, arm in zip(tau, robot.arms))]
+    )
     return forces + _wheel_spin_force(model, q, q_dot, q_ddot)
 
 

@@ -28,13 +28,16 @@ from mobman.dynamics import equations as eq
 from mobman.dynamics.inertia import DynamicModel
 from mobman.engine.batched import batched, traced
 from mobman.errors import InputError
+from mobman.model import spatial
 
 
 def s_dot_eta(model: DynamicModel, q: jnp.ndarray, eta: jnp.ndarray) -> jnp.ndarray:
-    """Ṡ η with Ṡ = ∂S/∂q · S η (forward-mode autodiff)."""
-    robot = model.robot
-    _, s_dot = jax.jvp(robot.S, (q,), (robot.S(q) @ eta,))
-    return s_dot @ eta
+    """Ṡ η with Ṡ = ∂S/∂q · S η (forward-mode autodiff): [Ṡ_p η_p, 0], only the platform's block of S
+    depends on q."""
+    platform = model.robot.platform
+    q_p, eta_p = q[: platform.n_q], eta[: platform.n_eta]
+    _, s_p_dot = jax.jvp(platform.S, (q_p,), (spatial.matvec(platform.S(q_p), eta_p),))
+    return jnp.concatenate([spatial.matvec(s_p_dot, eta_p), jnp.zeros(q.shape[0] - platform.n_q, q.dtype)])
 
 
 def reduced_mass_matrix_one(
@@ -51,12 +54,14 @@ def reduced_bias_one(
 ) -> jnp.ndarray:
     """b = Sᵀ (M Ṡ η + c + g): the generalized force of the motion q̇ = S η, q̈ = Ṡ η (η̇ = 0), by Newton–Euler
     (:func:`mobman.dynamics.equations.generalized_force_one`; equal to the Lagrange form, see the tests)."""
-    s = model.robot.S(q)
-    return s.T @ eq.generalized_force_one(model, q, s @ eta, s_dot_eta(model, q, eta), payload_mass)
+    robot = model.robot
+    force = eq.generalized_force_one(model, q, robot.q_dot(q, eta), s_dot_eta(model, q, eta), payload_mass)
+    return robot.apply_S(force[None, :], q)[0]
 
 
 def input_matrix_one(model: DynamicModel, q: jax.Array) -> jnp.ndarray:
-    return model.robot.S(q).T @ eq.actuation_matrix_one(model, q)
+    """B = Sᵀ E (Yamamoto eq. 16)."""
+    return model.robot.apply_S(eq.actuation_matrix_one(model, q).T, q).T
 
 
 def inverse_dynamics_one(

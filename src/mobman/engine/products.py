@@ -31,7 +31,7 @@ def unstack(a: jnp.ndarray, axis: int = -1) -> list[jnp.ndarray]:
     return [jnp.squeeze(x, axis) for x in jax.lax.split(a, (1,) * a.shape[axis], axis=axis)]
 
 
-@drop_in("mobman.model.tasks.base.rows")
+@drop_in("mobman.model.spatial.rows")
 def rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
     """x[indices] for static row indices from one split of x: indexing with an integer array compiles to a
     gather, a kernel of its own (and a scatter in reverse-mode derivatives), and a slice per row transposes to

@@ -270,6 +270,12 @@ class MobileManipulator:
         j_p, j_a = jax.lax.split(j, (n_p, j.shape[1] - n_p), axis=1)
         return jnp.concatenate([spatial.matmul_expanded(j_p, self.platform.S(q[:n_p])), j_a], axis=1)
 
+    def q_dot(self, q: jnp.ndarray, eta: jnp.ndarray) -> jnp.ndarray:
+        """q̇ = S(q) η (n_q,) for one configuration, as [S_p(q_p) η_p, η_a] without forming S (Bayle eq. 1)."""
+        n_p = self.platform.n_q
+        eta_p, eta_a = jax.lax.split(eta, (self.platform.n_eta, eta.shape[0] - self.platform.n_eta))
+        return jnp.concatenate([spatial.matvec(self.platform.S(q[:n_p]), eta_p), eta_a])
+
     def constraints(self, q: jnp.ndarray) -> jnp.ndarray:
         """G(q) = [G_p(q_p) 0] with G(q) q̇ = 0 (Bayle §4.2), shape (n_q − n_eta, n_q)."""
         g_p = self.platform.constraints(q[: self.platform.n_q])

@@ -118,6 +118,12 @@ def shared(x: jnp.ndarray) -> jnp.ndarray:
 
 
 @definition
+def rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
+    """The rows ``indices`` (static) of x: x[indices] (a task's components, a tree's bodies)."""
+    return x[jnp.asarray(indices, dtype=int)]
+
+
+@definition
 def cross(a: jnp.ndarray, b: jnp.ndarray, axis: int = -1) -> jnp.ndarray:
     """Cross product along ``axis`` (the last by default; 0 for the columns of 3 × n matrices)."""
     return jnp.cross(a, b, axis=axis)

@@ -33,7 +33,6 @@ from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 import jax
 import jax.numpy as jnp
 
-from mobman.engine.kernels import definition
 from mobman.errors import ModelError
 from mobman.model.kinds import Kinds
 
@@ -162,12 +161,6 @@ def component_indices(components: str) -> tuple[int, ...]:
     return tuple(_AXES[c] for c in components)
 
 
-@definition
-def rows(x: jnp.ndarray, indices: tuple[int, ...]) -> jnp.ndarray:
-    """The rows ``indices`` (static) of x: x[indices]."""
-    return x[jnp.asarray(indices, dtype=int)]
-
-
 def last_moving(robot: MobileManipulator, arm: int, link: int) -> int:
     """The last joint that moves frame ``link`` of arm ``arm`` (``link=-1``: the tool frame)."""
     return robot.arms[arm].n_joints - 1 if link == -1 else link
@@ -190,7 +183,6 @@ __all__ = [
     "check_arm",
     "component_indices",
     "last_moving",
-    "rows",
     "task_class",
     "task_kinds",
 ]

@@ -9,7 +9,7 @@ import jax
 
 from mobman.errors import ModelError
 from mobman.model import spatial
-from mobman.model.tasks.base import SymbolicFrames, rows
+from mobman.model.tasks.base import SymbolicFrames
 from mobman.model.tasks.orientation import OrientationTask
 
 if TYPE_CHECKING:
@@ -47,7 +47,7 @@ class EulerAngles(OrientationTask):
         return tuple(f"{self.sequence.lower()}_{i + 1}" for i in self.select)
 
     def angles(self, r: jax.Array) -> jax.Array:
-        return rows(spatial.euler_angles(r, self.sequence), self.select)
+        return spatial.rows(spatial.euler_angles(r, self.sequence), self.select)
 
     def margin(self, r: jax.Array) -> jax.Array:
         return spatial.gimbal_margin(r, self.sequence)

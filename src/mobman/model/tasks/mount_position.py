@@ -7,8 +7,9 @@ from typing import TYPE_CHECKING
 
 import jax
 
+from mobman.model import spatial
 from mobman.model.frame_jacobian import frame_jacobian
-from mobman.model.tasks.base import SymbolicFrames, Task, check_arm, component_indices, rows
+from mobman.model.tasks.base import SymbolicFrames, Task, check_arm, component_indices
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -39,11 +40,11 @@ class MountPosition(Task):
         return frames.mounts[self.arm]
 
     def value(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
-        return rows(self._frame(frames)[1], component_indices(self.components))
+        return spatial.rows(self._frame(frames)[1], component_indices(self.components))
 
     def jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         _, _, lin, _ = frame_jacobian(robot, self._frame, None, -1, q)
-        return rows(lin, component_indices(self.components))
+        return spatial.rows(lin, component_indices(self.components))
 
     def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         p = kin.mount_pose(self.arm)[1]

@@ -9,7 +9,7 @@ import jax
 
 from mobman.model import spatial
 from mobman.model.frame_jacobian import frame_jacobian
-from mobman.model.tasks.base import SymbolicFrames, Task, check_arm, component_indices, last_moving, rows
+from mobman.model.tasks.base import SymbolicFrames, Task, check_arm, component_indices, last_moving
 
 if TYPE_CHECKING:
     import sympy as sp
@@ -49,12 +49,12 @@ class Position(Task):
         return rs[self.link], ps[self.link] + spatial.matvec_constant(rs[self.link], self.point)
 
     def value(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
-        return rows(self._frame(frames)[1], component_indices(self.components))
+        return spatial.rows(self._frame(frames)[1], component_indices(self.components))
 
     def jacobian(self, robot: MobileManipulator, q: jax.Array, frames: Frames) -> jax.Array:
         upto = last_moving(robot, self.arm, self.link)
         _, _, lin, _ = frame_jacobian(robot, self._frame, self.arm, upto, q)
-        return rows(lin, component_indices(self.components))
+        return spatial.rows(lin, component_indices(self.components))
 
     def symbolic(self, kin: SymbolicFrames) -> list[sp.Expr]:
         r, p = kin.link_poses(self.arm)[self.link]
