@@ -8,7 +8,13 @@ mobman's J̄ rows are the tool position and its ZYX Euler angles (``Position`` +
 Pinocchio's reference per configuration is ``computeFrameJacobian`` (world-aligned, 6 × 11 with a planar
 root joint), the selection of the v_x, ω_z and chain columns (S), and NumPy's SVD for w, w2, w5. The dynamics
 reference per configuration is Pinocchio's ``crba`` + ``rnea`` (mass matrix and bias) on the same root joint,
-every joint off the chain locked (``buildReducedModel``), as in ``tests/test_urdf_pinocchio.py``. The run
+every joint off the chain locked (``buildReducedModel``), as in ``tests/test_urdf_pinocchio.py``.
+
+A one-configuration call is timed twice: with each result waited for before the next call (the latency a
+controller sees, as Pinocchio's synchronous calls), and as calls in a loop with the last result waited for
+(JAX's asynchronous dispatch overlaps one call's Python work with the previous call's computation). Two
+diagnostic rows show the cost of XLA's CPU scheduling: the compiled J̄ + measures program, whose arrays are
+all at most 512 bytes, and the same program with one 800-byte output added. The run
 prints the ratios (Pinocchio's time per configuration over mobman's) and never asserts a timing; it exits with
 an error when mobman and Pinocchio disagree by more than ``AGREEMENT`` (position rows of J̄, and Sᵀ M S with
 the wheels' spin inertia added to Pinocchio's).
@@ -22,6 +28,7 @@ import sys
 from functools import partial
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 
 import mobman  # noqa: F401  (float64)
@@ -33,6 +40,9 @@ from mobman.model.tasks import EulerAngles, Position, stack
 from mobman.redundancy import sample_configurations
 
 from timing import best_time, describe_structure, program_structure
+
+REPEAT = 7
+"""Timed repetitions of each row (its best is printed): a shared machine's times vary from call to call."""
 
 AGREEMENT = 1e-9
 """Largest relative difference from Pinocchio the benchmark accepts (it exits with an error above)."""
@@ -111,24 +121,39 @@ def main(argv=None) -> int:
         jbar = mp.system_jacobian(robot, q_device)
         return jbar, mp.measures(jbar)
 
-    def single():
-        for qi in q[: args.single]:
-            mp.jacobian_and_measures(robot, qi)
+    def per_call(fn, wait: bool = True) -> float:
+        """Seconds per call of ``fn(i)`` for configuration i, one configuration (NumPy arrays) per call.
+        ``wait``: each result is waited for before the next call (the latency a controller sees); otherwise
+        the calls follow one another and only the last result is waited for (JAX's asynchronous dispatch
+        then overlaps each call's Python work with the previous call's computation)."""
+
+        def run():
+            out = None
+            for i in range(args.single):
+                out = fn(i)
+                if wait:
+                    jax.block_until_ready(out)
+            return out
+
+        jax.block_until_ready(run())
+        return best_time(run, REPEAT) / args.single
 
     jbar, _ = jax.block_until_ready(batched())
-    t_batch = best_time(batched, 3) / args.n
-    single()
-    t_single = best_time(single, 3) / args.single
-    t_pin = best_time(lambda: pinocchio_kinematics(pin_model, q_pin), 3) / args.single
+    t_batch = best_time(batched, REPEAT) / args.n
+    t_single = per_call(lambda i: mp.jacobian_and_measures(robot, q[i]))
+    t_single_loop = per_call(lambda i: mp.jacobian_and_measures(robot, q[i]), wait=False)
+    t_pin = best_time(lambda: pinocchio_kinematics(pin_model, q_pin), REPEAT) / args.single
     # the fixed cost of any compiled call with a NumPy argument: the floor of a one-configuration call
     identity = jax.jit(lambda x: x)
-
-    def floor():
-        for qi in q[: args.single]:
-            jax.block_until_ready(identity(qi))
-
-    floor()
-    t_floor = best_time(floor, 3) / args.single
+    t_floor = per_call(lambda i: identity(q[i]))
+    # J̄ + measures' compiled program alone (every array at most 512 bytes: its kernels run one after the
+    # other), and with one 800-byte output added, which makes XLA's CPU runtime schedule the same kernels
+    # over its thread pool (mobman.engine.batched's notes)
+    options = mp._prepare(robot, "system", None, None)
+    one_kinematics = jax.jit(lambda x: mp.jacobian_and_measures.one(robot, x, "system", *options))
+    padded = jax.jit(lambda x: (one_kinematics(x), jnp.zeros(100, x.dtype) + x[0]))
+    t_program = per_call(lambda i: one_kinematics(q[i]))
+    t_padded = per_call(lambda i: padded(q[i]))
 
     nd = args.n_dynamics
     q_dyn, eta_dyn = jax.device_put(q[:nd]), jax.device_put(eta[:nd])
@@ -136,15 +161,11 @@ def main(argv=None) -> int:
     def dyn_batched():
         return reduced_terms(model, q_dyn, eta_dyn)
 
-    def dyn_single():
-        for qi, ei in zip(q[: args.single], eta[: args.single]):
-            reduced_terms(model, qi, ei)
-
     p_ours, _, _ = jax.block_until_ready(dyn_batched())
-    t_dyn_batch = best_time(dyn_batched, 3) / nd
-    dyn_single()
-    t_dyn_single = best_time(dyn_single, 3) / args.single
-    t_dyn_pin = best_time(lambda: pinocchio_dynamics(pin_model, q_pin, v_pin), 3) / args.single
+    t_dyn_batch = best_time(dyn_batched, REPEAT) / nd
+    t_dyn_single = per_call(lambda i: reduced_terms(model, q[i], eta[i]))
+    t_dyn_single_loop = per_call(lambda i: reduced_terms(model, q[i], eta[i]), wait=False)
+    t_dyn_pin = best_time(lambda: pinocchio_dynamics(pin_model, q_pin, v_pin), REPEAT) / args.single
 
     # agreement: position rows of the last configuration's J̄; Sᵀ M S with the wheels' spin inertia
     last = args.single - 1
@@ -169,16 +190,22 @@ def main(argv=None) -> int:
     rows = [
         ("J̄ + measures, batched (mobman)", t_batch, t_pin / t_batch),
         ("J̄ + measures, one configuration per call (mobman)", t_single, t_pin / t_single),
+        ("  the same, calls in a loop, the last one waited for", t_single_loop, t_pin / t_single_loop),
         ("Pinocchio computeFrameJacobian + columns + NumPy SVD", t_pin, 1.0),
         ("a compiled call of the identity (JAX's cost per call)", t_floor, t_pin / t_floor),
+        ("J̄ + measures' compiled program alone, one configuration", t_program, t_pin / t_program),
+        ("  the same with an 800-byte output added (thread pool)", t_padded, t_pin / t_padded),
         ("Sᵀ M S, bias and B, batched (mobman)", t_dyn_batch, t_dyn_pin / t_dyn_batch),
         ("Sᵀ M S, bias and B, one configuration per call (mobman)", t_dyn_single, t_dyn_pin / t_dyn_single),
+        (
+            "  the same, calls in a loop, the last one waited for",
+            t_dyn_single_loop,
+            t_dyn_pin / t_dyn_single_loop,
+        ),
         ("Pinocchio crba + rnea", t_dyn_pin, 1.0),
     ]
     for name, t, ratio in rows:
         print(f"{name:58s} {1e6 * t:10.3f} {ratio:19.2f}")
-    options = mp._prepare(robot, "system", None, None)
-    one_kinematics = jax.jit(lambda x: mp.jacobian_and_measures.one(robot, x, "system", *options))
     print(describe_structure("J̄ + measures, one configuration", program_structure(one_kinematics, q[0])))
     one_dynamics = partial(reduced_terms_one, model)
     print(describe_structure("P, b, B, one configuration", program_structure(one_dynamics, q[0], eta[0])))
