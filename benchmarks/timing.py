@@ -107,7 +107,7 @@ FMA_UNITS = 2
 
 def cpu_peak() -> tuple[float, str]:
     """Peak fp64 GFLOP/s of the cores this process may use and the formula, from ``lscpu``:
-    cores × GHz × FMA units × doubles per vector × 2 (an FMA is two operations)."""
+    cores × GHz × FMA units × doubles per FMA and cycle × 2 (an FMA is two operations)."""
     info = _lscpu()
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
     mhz = info.get("CPU max MHz") or info.get("CPU MHz")
@@ -120,6 +120,8 @@ def cpu_peak() -> tuple[float, str]:
     ghz = float(mhz) / 1000.0
     flags = info.get("Flags", "").split()
     width = 8 if "avx512f" in flags else 4 if "avx2" in flags or "avx" in flags else 2
+    if width == 8 and info.get("Vendor ID") == "AuthenticAMD" and info.get("CPU family") == "25":
+        width = 4  # Zen 4 runs a 512-bit operation as two halves on its 256-bit FMA pipes
     fma = FMA_UNITS if "fma" in flags or width == 8 else 1
     peak = cores * ghz * fma * width * 2
     model = info.get("Model name", "CPU")
