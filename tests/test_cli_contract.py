@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from subprocesses import DUMP_ON_USR1, communicate_or_dump
 
 from mobman.cli import main
 
@@ -257,7 +258,9 @@ def test_huge_runs_are_refused_before_any_work(tmp_path, capsys, steps):
         assert code == 2 and "free there" in one_line(err) and not out.exists()
 
 
-SLOW_WRITER = """
+SLOW_WRITER = (
+    DUMP_ON_USR1
+    + """
 import sys, time
 import mobman.cli.simulate as command
 from mobman.cli import main
@@ -269,6 +272,7 @@ def stalled(*args, **kwargs):
 command.save_figure = stalled
 main(sys.argv[1:])
 """
+)
 
 
 def test_a_run_interrupted_while_writing_its_folder_leaves_the_old_results(tmp_path):
@@ -286,7 +290,7 @@ def test_a_run_interrupted_while_writing_its_folder_leaves_the_old_results(tmp_p
     process = subprocess.Popen(args, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert process.stdout.readline().strip() == "writing"
     process.send_signal(signal.SIGINT)
-    _, err = process.communicate(timeout=60)
+    _, err = communicate_or_dump(process)
     assert snapshot(out) == before
     assert process.returncode == 130 and one_line(err).startswith("interrupted: mobman simulate")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run", "spec.toml"]

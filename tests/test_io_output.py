@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import pytest
+from subprocesses import DUMP_ON_USR1, communicate_or_dump
 
 from mobman.errors import InputError
 from mobman.io.output import MARKER, check_folder, results_folder, write_text
@@ -17,7 +18,9 @@ from mobman.io.output import MARKER, check_folder, results_folder, write_text
 SRC = Path(__file__).resolve().parents[1] / "src"
 SIZE = 4_000_000
 
-WRITER = f"""
+WRITER = (
+    DUMP_ON_USR1
+    + f"""
 import sys
 from mobman.io.output import write_text
 print("ready", flush=True)
@@ -26,6 +29,7 @@ while True:
     write_text(sys.argv[1], str(n % 10) * {SIZE})
     n += 1
 """
+)
 
 
 def _start(code: str, *args: str) -> subprocess.Popen:
@@ -48,7 +52,7 @@ def test_a_file_killed_mid_write_is_the_old_or_the_new_one(tmp_path, sig):
     process = _start(WRITER, str(path))
     time.sleep(0.5)  # many rewrites of 4 MB: the signal lands in the middle of one
     process.send_signal(sig)
-    process.communicate(timeout=60)
+    communicate_or_dump(process)
     text = path.read_text()
     assert len(text) == SIZE and len(set(text)) == 1
     leftovers = [p.name for p in tmp_path.iterdir() if p.name != "results.json"]
