@@ -141,3 +141,12 @@ def test_derivatives_of_the_recursion_equal_those_of_the_definitions(name):
     reference = jax.jit(jax.grad(partial(scalar, p_ref, b_ref), argnums=(0, 1)))(x, e)
     for a, b in zip(ours, reference):
         assert _relative(a, b) < 1e-10
+
+
+def test_input_matrix_by_blocks_equals_s_transpose_e(case):
+    """B = diag(S_pᵀ E_p, C_1ᵀ, …) (reduced.input_matrix_one) equals Sᵀ E with S and E formed, for a coupled
+    arm, two arms and a platform without driven wheels too."""
+    model, (q, _, _) = case
+    for x in q:
+        expected = np.asarray(model.robot.S(x)).T @ np.asarray(equations.actuation_matrix_one(model, x))
+        np.testing.assert_allclose(np.asarray(reduced.input_matrix_one(model, x)), expected, atol=1e-14)

@@ -173,19 +173,14 @@ def _tree(
     frames = robot.frames(q)
     origin = frames.platform[1]
     parts = bodies(model, frames, payload_mass)
-    rotations = jnp.stack([jnp.broadcast_to(body.rotation, (3, 3)) for body in parts])
-    inertia = spatial.matmul_expanded(
-        spatial.matmul_expanded(rotations, np.stack([body.inertia for body in parts])),
-        jnp.swapaxes(rotations, 1, 2),
-    )
     every = recursive.RigidInertia.of_bodies(
         jnp.asarray([body.mass for body in parts], dtype=q.dtype),
         jnp.stack([body.point for body in parts]) - origin,
-        inertia,
+        _world_inertia_columns(parts),
     )
 
     def rows(index: list[int]) -> recursive.RigidInertia:
-        return recursive.RigidInertia(*(spatial.rows(x, tuple(index)) for x in every))
+        return jax.tree.map(lambda x: spatial.rows(x, tuple(index)), every)
 
     root = rows([k for k, body in enumerate(parts) if body.arm is None])
     chains = []
@@ -194,7 +189,7 @@ def _tree(
         chain = rows([links[j] for j in range(arm.n_joints)])
         for k, body in enumerate(parts):
             if body.arm == i and body.payload:
-                chain = recursive.RigidInertia(*(c.at[body.upto].add(x[k]) for c, x in zip(chain, every)))
+                chain = jax.tree.map(lambda c, x, k=k, j=body.upto: c.at[j].add(x[k]), chain, every)
         rs, ps = frames.links[i]
         axes = jnp.stack([spatial.matvec_constant(rs[j], joint.axis) for j, joint in enumerate(arm.joints)])
         revolute = np.array([joint.kind == "revolute" for joint in arm.joints])[:, None]
@@ -204,6 +199,22 @@ def _tree(
         )
         chains.append(recursive.Chain(columns, chain))
     return root, chains
+
+
+def _world_inertia_columns(parts: list[Body]) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]:
+    """The bodies' world inertias R Ī Rᵀ by columns (:class:`recursive.RigidInertia`), each (B, 3): with
+    r_m = R e_m over the bodies, column k is Σ_m r_m (Ī Rᵀ)_mk, where (Ī Rᵀ)_mk = Σ_n Ī_mn (r_n)_k."""
+    r = [jnp.stack([jnp.broadcast_to(body.rotation, (3, 3))[:, m] for body in parts]) for m in range(3)]
+    local = np.stack([body.inertia for body in parts])
+
+    def column(k: int) -> jnp.ndarray:
+        weights = [
+            local[:, m, 0] * r[0][:, k] + local[:, m, 1] * r[1][:, k] + local[:, m, 2] * r[2][:, k]
+            for m in range(3)
+        ]
+        return r[0] * weights[0][:, None] + r[1] * weights[1][:, None] + r[2] * weights[2][:, None]
+
+    return column(0), column(1), column(2)
 
 
 def _platform_axes(basis: np.ndarray | jnp.ndarray) -> recursive.Motion:
@@ -391,17 +402,29 @@ def coriolis_matrix_one(model: DynamicModel, q: jax.Array, q_dot: jax.Array) -> 
     return 0.5 * (dm @ q_dot + jnp.einsum("ikj,k->ij", dm, q_dot) - jnp.einsum("jki,k->ij", dm, q_dot))
 
 
+def arm_actuation(robot: MobileManipulator) -> np.ndarray:
+    """The arms' block of E ((n_q − n_p) × the arms' actuators): diag(C_1ᵀ, C_2ᵀ, …), joint torques acting on
+    each arm's joint motion variables (C the arm's coupling matrix, the identity when uncoupled)."""
+    blocks = [arm.coupling_matrix.T for arm in robot.arms]
+    out = np.zeros((sum(b.shape[0] for b in blocks), sum(b.shape[1] for b in blocks)))
+    row = col = 0
+    for b in blocks:
+        out[row : row + b.shape[0], col : col + b.shape[1]] = b
+        row, col = row + b.shape[0], col + b.shape[1]
+    return out
+
+
 def actuation_matrix_one(model: DynamicModel, q: jnp.ndarray) -> jnp.ndarray:
-    """E(q) (n_q × n_actuators): generalized forces E τ of the actuator torques."""
+    """E(q) (n_q × n_actuators) = diag(E_p(q_p), C_1ᵀ, C_2ᵀ, …): generalized forces E τ of the actuator
+    torques (E_p = A_pᵀ, the platform's actuator rows; :func:`arm_actuation`)."""
     robot = model.robot
     n_p = robot.n_platform
     e_p = robot.platform.actuator_rows(q[:n_p]).T
-    blocks = [jnp.concatenate([e_p, jnp.zeros((robot.n_q - n_p, e_p.shape[1]), q.dtype)], axis=0)]
-    for i, arm in enumerate(robot.arms):
-        col = np.zeros((robot.n_q, arm.n_joints))
-        col[robot.arm_slice(i), :] = arm.coupling_matrix.T
-        blocks.append(jnp.asarray(col, dtype=q.dtype))
-    return jnp.concatenate(blocks, axis=1)
+    arms = arm_actuation(robot)
+    top = jnp.concatenate([e_p, jnp.zeros((n_p, arms.shape[1]), q.dtype)], axis=1)
+    return jnp.concatenate(
+        [top, jnp.asarray(np.block([np.zeros((arms.shape[0], e_p.shape[1])), arms]), q.dtype)]
+    )
 
 
 # --- batched public API --------------------------------------------------------------------------

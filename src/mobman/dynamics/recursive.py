@@ -27,6 +27,7 @@ from __future__ import annotations
 from itertools import accumulate
 from typing import NamedTuple, Sequence
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -52,33 +53,48 @@ class RigidInertia(NamedTuple):
     """Spatial inertias about o, batched over the leading axis: mass m, first moment h = m c and rotational
     inertia about o, J = Ī + m [c]× [c]×ᵀ, for a body of mass m, centre of mass c (relative to o) and
     rotational inertia Ī about its centre of mass (Featherstone eq. 2.63:
-    I = [[Ī + m c× c×ᵀ, m c×], [m c×ᵀ, m 1]])."""
+    I = [[Ī + m c× c×ᵀ, m c×], [m c×ᵀ, m 1]]).
+
+    J is held by its three columns J e_k, each (..., 3): a one-configuration program runs its kernels one
+    after the other only while every array is at most 512 bytes (:mod:`mobman.engine.batched`), which a stack
+    of 3 × 3 matrices over 8 or more bodies (TIAGo's chain, its 11 bodies) exceeds and three stacks of their
+    columns do not (up to 21 bodies)."""
 
     mass: jnp.ndarray
     first_moment: jnp.ndarray
-    rotational: jnp.ndarray
+    rotational: tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]
 
     @classmethod
-    def of_bodies(cls, mass: jnp.ndarray, com: jnp.ndarray, inertia: jnp.ndarray) -> "RigidInertia":
-        """From masses (B,), centres of mass relative to o (B, 3) and inertias about them (B, 3, 3)."""
-        h = mass[:, None] * com
-        parallel = _dot(com, com)[:, None, None] * jnp.eye(3) - com[:, :, None] * com[:, None, :]
-        return cls(mass, h, inertia + mass[:, None, None] * parallel)
+    def of_bodies(
+        cls, mass: jnp.ndarray, com: jnp.ndarray, inertia: tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]
+    ) -> "RigidInertia":
+        """From masses (B,), centres of mass relative to o (B, 3) and the columns of the inertias about them
+        (each (B, 3))."""
+        square, c = _dot(com, com), spatial.unstack(com)
+        unit = np.eye(3)
+        rotational = tuple(
+            column + mass[:, None] * (square[:, None] * unit[k] - com * c[k][:, None])
+            for k, column in enumerate(inertia)
+        )
+        return cls(mass, mass[:, None] * com, rotational)
 
     def apply(self, v: Motion) -> Force:
         """I v = (J ω + h × v_o, m v_o − h × ω): the momentum of bodies moving with v (row by row)."""
-        moment = _matvec(self.rotational, v.angular) + spatial.cross(self.first_moment, v.linear)
+        omega = spatial.unstack(v.angular)
+        spin = self.rotational[0] * omega[0][..., None]
+        spin = spin + self.rotational[1] * omega[1][..., None] + self.rotational[2] * omega[2][..., None]
+        moment = spin + spatial.cross(self.first_moment, v.linear)
         force = self.mass[..., None] * v.linear - spatial.cross(self.first_moment, v.angular)
         return Force(moment, force)
 
     def total(self) -> "RigidInertia":
         """The sum over the leading axis: the inertia of all these bodies as one."""
-        return RigidInertia(*(jnp.sum(x, axis=0) for x in self))
+        return jax.tree.map(lambda x: jnp.sum(x, axis=0), self)
 
     def outboard(self) -> "RigidInertia":
         """Composite inertias along a chain, I^c_j = Σ_{k ≥ j} I_k (Featherstone eq. 6.11 in absolute
         coordinates)."""
-        return RigidInertia(*(_reverse_cumsum(x) for x in self))
+        return jax.tree.map(_reverse_cumsum, self)
 
 
 # The sums below are written out over their few terms (3 components, a chain's joints): elementwise
@@ -91,12 +107,6 @@ def _dot(a: jnp.ndarray, b: jnp.ndarray) -> jnp.ndarray:
     """a · b along the last axis (of size 3)."""
     x, y = spatial.unstack(a), spatial.unstack(b)
     return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
-
-
-def _matvec(a: jnp.ndarray, v: jnp.ndarray) -> jnp.ndarray:
-    """a @ v for (..., 3, 3) matrices and (..., 3) vectors."""
-    columns, x = spatial.unstack(a), spatial.unstack(v)
-    return columns[0] * x[0][..., None] + columns[1] * x[1][..., None] + columns[2] * x[2][..., None]
 
 
 def _cumsum(x: jnp.ndarray) -> jnp.ndarray:
@@ -155,7 +165,7 @@ def mass_matrix(root_axes: Motion, root_inertia: RigidInertia, chains: Sequence[
     total = root_inertia.total()
     composites = [chain.inertia.outboard() for chain in chains]
     for composite in composites:
-        total = RigidInertia(*(a + b[0] for a, b in zip(total, composite)))
+        total = jax.tree.map(lambda a, b: a + b[0], total, composite)
     axes = Motion(*(jnp.concatenate(x) for x in zip(root_axes, *(chain.axes for chain in chains))))
     f = [total.apply(root_axes)] + [c.apply(chain.axes) for c, chain in zip(composites, chains)]
     g = _pairing(axes, Force(*(jnp.concatenate(x) for x in zip(*f))))  # g[i, j] = s_iᵀ I^c_j s_j

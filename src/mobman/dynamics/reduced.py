@@ -60,8 +60,19 @@ def reduced_bias_one(
 
 
 def input_matrix_one(model: DynamicModel, q: jax.Array) -> jnp.ndarray:
-    """B = Sᵀ E (Yamamoto eq. 16)."""
-    return model.robot.apply_S(eq.actuation_matrix_one(model, q).T, q).T
+    """B = Sᵀ E (Yamamoto eq. 16), by blocks: S = diag(S_p, 1) and E = diag(E_p, C_1ᵀ, C_2ᵀ, …)
+    (:func:`mobman.dynamics.equations.actuation_matrix_one`) give B = diag(S_pᵀ E_p, C_1ᵀ, C_2ᵀ, …), only
+    its platform block depending on q (equal to Sᵀ E, tests). Formed row by row, so that a
+    one-configuration program returns it in pieces (:func:`mobman.engine.batched.sequential`)."""
+    robot = model.robot
+    q_p = q[: robot.n_platform]
+    platform = spatial.matmul_expanded(robot.platform.S(q_p).T, robot.platform.actuator_rows(q_p).T)
+    arms = eq.arm_actuation(robot)
+    k, a_p = platform.shape
+    pad = jnp.zeros(arms.shape[1], q.dtype)
+    rows = [jnp.concatenate([platform[r], pad]) for r in range(k)]
+    rows += [jnp.asarray(np.concatenate([np.zeros(a_p), row]), q.dtype) for row in arms]
+    return jnp.stack(rows)
 
 
 def inverse_dynamics_one(
