@@ -14,7 +14,9 @@ A one-configuration call is timed twice: with each result waited for before the 
 controller sees, as Pinocchio's synchronous calls), and as calls in a loop with the last result waited for
 (JAX's asynchronous dispatch overlaps one call's Python work with the previous call's computation). Two
 diagnostic rows show the cost of XLA's CPU scheduling: the compiled J̄ + measures program, whose arrays are
-all at most 512 bytes, and the same program with one 800-byte output added. The run
+all at most 512 bytes, and the same program with one 800-byte output added. The structure printed is that
+of the programs a one-configuration call runs (``mobman.engine.batched.sequential``: the function in a
+conditional's branch, which returns its results in blocks of at most 512 bytes). The run
 prints the ratios (Pinocchio's time per configuration over mobman's) and never asserts a timing; it exits with
 an error when mobman and Pinocchio disagree by more than ``AGREEMENT`` (position rows of J̄, and Sᵀ M S with
 the wheels' spin inertia added to Pinocchio's).
@@ -35,6 +37,7 @@ import mobman  # noqa: F401  (float64)
 from mobman import dynamics as dyn
 from mobman import manipulability as mp
 from mobman.dynamics.reduced import reduced_terms, reduced_terms_one
+from mobman.engine.batched import sequential
 from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.model.tasks import EulerAngles, Position, stack
 from mobman.redundancy import sample_configurations
@@ -150,7 +153,11 @@ def main(argv=None) -> int:
     # other), and with one 800-byte output added, which makes XLA's CPU runtime schedule the same kernels
     # over its thread pool (mobman.engine.batched's notes)
     options = mp._prepare(robot, "system", None, None)
-    one_kinematics = jax.jit(lambda x: mp.jacobian_and_measures.one(robot, x, "system", *options))
+
+    def kinematics_one(x):
+        return mp.jacobian_and_measures.one(robot, x, "system", *options)
+
+    one_kinematics = jax.jit(kinematics_one)
     padded = jax.jit(lambda x: (one_kinematics(x), jnp.zeros(100, x.dtype) + x[0]))
     t_program = per_call(lambda i: one_kinematics(q[i]))
     t_padded = per_call(lambda i: padded(q[i]))
@@ -206,9 +213,11 @@ def main(argv=None) -> int:
     ]
     for name, t, ratio in rows:
         print(f"{name:58s} {1e6 * t:10.3f} {ratio:19.2f}")
-    print(describe_structure("J̄ + measures, one configuration", program_structure(one_kinematics, q[0])))
-    one_dynamics = partial(reduced_terms_one, model)
-    print(describe_structure("P, b, B, one configuration", program_structure(one_dynamics, q[0], eta[0])))
+    # the programs a one-configuration call runs: the function in a conditional's branch (sequential)
+    kinematics_program = sequential(kinematics_one, (0,))
+    print(describe_structure("J̄ + measures, one configuration", program_structure(kinematics_program, q[0])))
+    dynamics_program = sequential(partial(reduced_terms_one, model), (0, 1))
+    print(describe_structure("P, b, B, one configuration", program_structure(dynamics_program, q[0], eta[0])))
     print(
         f"max |J̄ position rows − Pinocchio| = {err_j:.1e}, max |Sᵀ M S − Pinocchio| / max |M| = {err_p:.1e}"
     )

@@ -8,10 +8,12 @@ the compiler's output, which change with the JAX version, so they are printed he
   :func:`roofline` sets against the machine's peak;
 - :func:`program_structure`: the kernels of a compiled program (fusions, library calls, products), the
   operations that cost XLA's CPU runtime most in small programs (gathers, constant arrays, LAPACK calls) and
-  its largest array: XLA's CPU runtime runs a program's kernels one after the other on the calling thread
-  only when every array they touch is at most 512 bytes (or there are at most 8 kernels); otherwise it
-  schedules them over a thread pool, which costs a one-configuration program of tiny kernels several times
-  their work.
+  its largest array: XLA's CPU runtime runs an executor's kernels (the program's, each conditional
+  branch's) one after the other on the calling thread only when every array they touch is at most 512 bytes
+  (or there are at most 8 kernels); otherwise it schedules them over a thread pool, which costs a
+  one-configuration program of tiny kernels several times their work. :func:`executor_arrays` reads the
+  largest array of each executor (``tests/test_engine_batched.py`` uses it to check that TIAGo's
+  one-configuration dynamics keep their branch under the limit).
 """
 
 from __future__ import annotations
@@ -63,6 +65,10 @@ def program_structure(fn: Callable, *args) -> dict[str, int]:
         "solver calls": len(re.findall(r'custom_call_target="(?:lapack|cusolver|hipsolver)', full)),
         "YNN fusions": full.count("__ynn_fusion"),
         "largest array (bytes)": max(_array_bytes(entry), default=0),
+        "largest array of a branch (bytes)": max(
+            (size for name, size in executor_arrays(full).items() if not entry.startswith(f"ENTRY %{name} ")),
+            default=0,
+        ),
     }
 
 
@@ -87,6 +93,24 @@ def _array_bytes(entry: str) -> list[int]:
         _BYTES.get(dtype, 8) * math.prod(int(d) for d in dims.split(",") if d)
         for dtype, dims in re.findall(r"\b(f64|s64|u64|c64|f32|s32|u32|f16|pred|s8|u8)\[([\d,]*)\]", entry)
     ]
+
+
+def executor_arrays(text: str) -> dict[str, int]:
+    """The largest array (bytes) each computation of a compiled program's HLO ``text`` makes at its own level,
+    by computation name: the entry computation and those XLA's CPU runtime runs as executors of their own
+    (conditional branches, loop bodies); a fusion's inner values are not arrays of the program."""
+    sizes: dict[str, int] = {}
+    computation = None
+    for line in text.splitlines():
+        head = re.match(r"^(?:ENTRY )?%(\S+) ", line)
+        if head and line.rstrip().endswith("{"):
+            computation = head.group(1)
+            continue
+        shape = re.match(r"\s*(?:ROOT )?%\S+ = (\w+)\[([\d,]*)\]", line)
+        if computation and shape and "fused" not in computation and "wrapped" not in computation:
+            size = _BYTES.get(shape.group(1), 8) * math.prod(int(d) for d in shape.group(2).split(",") if d)
+            sizes[computation] = max(sizes.get(computation, 0), size)
+    return sizes
 
 
 def describe_structure(label: str, counts: dict[str, int]) -> str:

@@ -2,17 +2,10 @@
 
 from __future__ import annotations
 
-import importlib.util
 import os
-from pathlib import Path
 
 import pytest
-
-_PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "timing.py"
-_spec = importlib.util.spec_from_file_location("benchmark_timing", _PATH)
-assert _spec is not None and _spec.loader is not None
-timing = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(timing)
+from benchmark_timing import timing
 
 CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 

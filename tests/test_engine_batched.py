@@ -3,15 +3,21 @@
 from __future__ import annotations
 
 import threading
+from functools import partial
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from benchmark_timing import timing
 
+from mobman import dynamics as dyn
 from mobman import kinematics, manipulability
+from mobman.dynamics import reduced
 from mobman.engine import batched as batching
+from mobman.io.real_robots import urdf_model
 from mobman.model import robots
+from mobman.redundancy import sample_configurations
 
 
 def _kernel(x):
@@ -168,3 +174,59 @@ def test_batched_validates_once_and_broadcasts_the_batched_arguments():
     np.testing.assert_allclose(got, 3.0 * np.einsum("...ij,...j->...i", m, x), rtol=1e-14)
     np.testing.assert_allclose(affine.one(x[0, 0], m[0], 3.0), 3.0 * m[0] @ x[0, 0], rtol=1e-14)
     assert affine.__doc__ == "scale · m x"
+
+
+def _rows_kernel(x):
+    """Results over and under SEQUENTIAL_BYTES: a 10 × 10 matrix built from rows, a 100-vector, a scalar and
+    an integer count."""
+    rows = [jnp.sin(x * k) + x[k] for k in range(10)]
+    return {
+        "matrix": jnp.stack(rows),
+        "long": jnp.tile(x, 10),
+        "norm": jnp.sqrt(x @ x),
+        "count": jnp.sum(x > 0),
+    }
+
+
+def test_sequential_equals_the_function_and_is_nan_for_a_non_finite_argument():
+    x = np.random.default_rng(3).normal(size=10)
+    got = jax.jit(batching.sequential(_rows_kernel, (0,)))(x)
+    expected = jax.jit(_rows_kernel)(x)
+    for key in expected:
+        assert got[key].shape == expected[key].shape and got[key].dtype == expected[key].dtype
+        np.testing.assert_array_equal(np.asarray(got[key]), np.asarray(expected[key]))
+    x[4] = np.inf
+    missing = jax.jit(batching.sequential(_rows_kernel, (0,)))(x)
+    assert np.isnan(np.asarray(missing["matrix"])).all() and int(missing["count"]) == 0
+
+
+@pytest.mark.parametrize(
+    ("shape", "blocks"),
+    [
+        ((64,), None),
+        ((65,), [slice(0, 33), slice(33, 65)]),
+        ((10, 10), [slice(0, 5), slice(5, 10)]),
+        ((3, 100), [slice(0, 1), slice(1, 2), slice(2, 3)]),
+    ],
+)
+def test_row_blocks_are_at_most_the_sequential_size(shape, blocks):
+    assert batching._row_blocks(shape, np.float64) == blocks
+
+
+def test_one_configuration_dynamics_keep_every_array_of_their_branch_small():
+    """TIAGo's P, b and B (10 × 10, 10, 10 × 10) for one configuration: the conditional's branch that computes
+    them makes no array over SEQUENTIAL_BYTES (so XLA runs its kernels one after the other), and the
+    public call returns what the batched program does."""
+    model = dyn.DynamicModel.from_urdf(urdf_model("tiago"))
+    q = sample_configurations(model.robot, 3, seed=2)
+    eta = np.random.default_rng(2).normal(size=(3, model.robot.n_eta))
+    program = jax.jit(batching.sequential(partial(reduced.reduced_terms_one, model), (0, 1)))
+    sizes = timing.executor_arrays(program.lower(q[0], eta[0]).compile().as_text())
+    entry = [name for name in sizes if name.startswith("main")]
+    branches = {name: size for name, size in sizes.items() if name not in entry}
+    assert branches and max(branches.values()) <= batching.SEQUENTIAL_BYTES, branches
+    assert sizes[entry[0]] == 800  # P and B are joined outside the branch
+    together = reduced.reduced_terms(model, q, eta)
+    for k in range(3):
+        for one, batch in zip(reduced.reduced_terms(model, q[k], eta[k]), together):
+            np.testing.assert_allclose(np.asarray(one), np.asarray(batch[k]), rtol=1e-13, atol=1e-13)

@@ -14,12 +14,16 @@ compiled loop (a ``fori_loop`` that reads each block in place and writes it into
 block's intermediates stay in the L1/L2 cache. On accelerators, where one wide kernel over the whole batch is
 what the hardware wants, and for batches of at most one block, it is plain ``vmap``.
 
-**One configuration.** A program for one configuration is a few dozen tiny kernels. XLA's CPU runtime runs
-them one after the other on the calling thread only when every array they touch is at most 512 bytes (or
-there are at most 8 kernels); otherwise it schedules them over a thread pool, at a cost of about a
-microsecond per kernel, several times their work. So the per-configuration definitions avoid forming a larger
-array than their result needs where the mathematics allows it (a stacked task's J̄ is formed part by part,
-:meth:`mobman.model.tasks.Stack.reduced_jacobian`); ``benchmarks/real_robots.py`` prints the largest array of
+**One configuration.** A program for one configuration is a few dozen to a hundred tiny kernels. XLA's CPU
+runtime runs them one after the other on the calling thread only when every array they touch is at most
+:data:`SEQUENTIAL_BYTES` (or there are at most 8 kernels); otherwise it schedules them over a thread pool, at
+a cost of about a microsecond per kernel, several times their work. That rule holds for each executor: the
+program itself and, separately, each branch of a conditional. So a one-configuration call on the CPU runs
+:func:`sequential`'s program: the function in a conditional's branch that returns every result in pieces of
+at most 512 bytes, joined outside it by a few kernels. The per-configuration definitions avoid forming
+larger intermediate arrays where the mathematics allows it (a stacked task's J̄ is formed part by part,
+:meth:`mobman.model.tasks.Stack.reduced_jacobian`; spatial inertias are held by columns,
+:class:`mobman.dynamics.recursive.RigidInertia`); ``benchmarks/real_robots.py`` prints the largest array of
 the one-configuration programs.
 
 **Cores.** A compiled XLA program runs on one CPU core. :func:`across_cores` splits a large batch into one
@@ -49,6 +53,10 @@ WORKERS = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 
 
 MIN_SHARE = 16 * BLOCK
 """Smallest share worth a thread of its own (2,048 configurations: splitting costs a fraction of a ms)."""
+
+SEQUENTIAL_BYTES = 512
+"""XLA's CPU runtime runs an executor's kernels one after the other only when every array is at most this
+size (``execute_sequential_buffer_threshold`` of its thunk executor)."""
 
 
 def batched(
@@ -84,23 +92,72 @@ def batched(
             return blocked(one, tuple(core_dims[i] for i in arrays))(*(args[i] for i in arrays))
 
         compiled = across_cores(core_dims, min_share)(jax.jit(program, static_argnums=static))
+        single = jax.jit(sequential(fn, arrays), static_argnums=static)
+
+        def call(args: tuple) -> Any:
+            one = all(
+                i < len(args) and np.ndim(args[i]) == core_dims[i] and not traced(args[i]) for i in arrays
+            )
+            return single(*args) if one and jax.default_backend() == "cpu" else compiled(*args)
 
         if validate is None:
 
             @functools.wraps(fn)
             def public(*args):
-                return compiled(*args)
+                return call(args)
 
         else:
 
             @functools.wraps(fn)
             def public(*args, **kwargs):
-                return compiled(*validate(*args, **kwargs))
+                return call(validate(*args, **kwargs))
 
         public.one = fn  # type: ignore[attr-defined]
         return public
 
     return decorate
+
+
+def sequential(fn: Callable, arrays: tuple[int, ...]) -> Callable:
+    """``fn`` of one configuration (its array arguments at positions ``arrays``) as a program whose kernels
+    XLA's CPU runtime runs one after the other on the calling thread, though its results are larger than
+    :data:`SEQUENTIAL_BYTES`: ``fn`` runs in a conditional's branch (an executor of its own) that returns each
+    result in row blocks of at most that size (:func:`_row_blocks`; XLA forms only the blocks when the
+    result is built from rows), and the program joins them. The conditional's other branch, taken when an
+    array argument is not finite, returns NaN (zeros for integer results): mobman's public functions reject
+    such arguments before this. Equal to ``fn`` (tests); fast only when ``fn``'s intermediate arrays are
+    small too."""
+
+    def program(*args):
+        results, tree = jax.tree.flatten(jax.eval_shape(lambda: fn(*args)))
+        blocks = [_row_blocks(r.shape, r.dtype) for r in results]
+
+        def split(leaves: list) -> list:
+            return [x if b is None else [x[row] for row in b] for x, b in zip(leaves, blocks)]
+
+        def missing() -> list:
+            return [
+                jnp.full(r.shape, jnp.nan if jnp.issubdtype(r.dtype, jnp.inexact) else 0, r.dtype)
+                for r in results
+            ]
+
+        finite = jnp.all(jnp.stack([jnp.all(jnp.isfinite(args[i])) for i in arrays]))
+        pieces = jax.lax.cond(finite, lambda: split(jax.tree.leaves(fn(*args))), lambda: split(missing()))
+        joined = [x if b is None else jnp.concatenate(x) for x, b in zip(pieces, blocks)]
+        return jax.tree.unflatten(tree, joined)
+
+    return program
+
+
+def _row_blocks(shape: tuple[int, ...], dtype: npt.DTypeLike) -> list[slice] | None:
+    """None for a result of at most :data:`SEQUENTIAL_BYTES`, else its rows in equal blocks of at most that
+    size (a single row of more is a block of its own)."""
+    row = np.dtype(dtype).itemsize * math.prod(shape[1:])
+    if not shape or row * shape[0] <= SEQUENTIAL_BYTES:
+        return None
+    count = -(-shape[0] // max(1, SEQUENTIAL_BYTES // row))
+    size = -(-shape[0] // count)
+    return [slice(start, min(start + size, shape[0])) for start in range(0, shape[0], size)]
 
 
 def traced(x: object) -> TypeGuard[jax.Array]:
@@ -272,4 +329,14 @@ def _pool(workers: int) -> ThreadPoolExecutor:
     return ThreadPoolExecutor(max_workers=workers, thread_name_prefix="mobman")
 
 
-__all__ = ["BLOCK", "MIN_SHARE", "WORKERS", "across_cores", "batched", "blocked", "traced"]
+__all__ = [
+    "BLOCK",
+    "MIN_SHARE",
+    "SEQUENTIAL_BYTES",
+    "WORKERS",
+    "across_cores",
+    "batched",
+    "blocked",
+    "sequential",
+    "traced",
+]
