@@ -16,7 +16,8 @@ controller sees, as Pinocchio's synchronous calls), and as calls in a loop with 
 diagnostic rows show the cost of XLA's CPU scheduling: the compiled J̄ + measures program, whose arrays are
 all at most 512 bytes, and the same program with one 800-byte output added. The structure printed is that
 of the programs a one-configuration call runs (``mobman.engine.batched.sequential``: the function in a
-conditional's branch, which returns its results in blocks of at most 512 bytes). The run
+conditional's branch, which returns its results in blocks of at most 512 bytes), and a row times the
+dynamics' function compiled plainly, which XLA schedules over its thread pool. The run
 prints the ratios (Pinocchio's time per configuration over mobman's) and never asserts a timing; it exits with
 an error when mobman and Pinocchio disagree by more than ``AGREEMENT`` (position rows of J̄, and Sᵀ M S with
 the wheels' spin inertia added to Pinocchio's).
@@ -172,6 +173,9 @@ def main(argv=None) -> int:
     t_dyn_batch = best_time(dyn_batched, REPEAT) / nd
     t_dyn_single = per_call(lambda i: reduced_terms(model, q[i], eta[i]))
     t_dyn_single_loop = per_call(lambda i: reduced_terms(model, q[i], eta[i]), wait=False)
+    # the same function compiled plainly: P and B (800 bytes) make XLA schedule it over its thread pool
+    plain_dynamics = jax.jit(partial(reduced_terms_one, model))
+    t_dyn_plain = per_call(lambda i: plain_dynamics(q[i], eta[i]))
     t_dyn_pin = best_time(lambda: pinocchio_dynamics(pin_model, q_pin, v_pin), REPEAT) / args.single
 
     # agreement: position rows of the last configuration's J̄; Sᵀ M S with the wheels' spin inertia
@@ -208,6 +212,11 @@ def main(argv=None) -> int:
             "  the same, calls in a loop, the last one waited for",
             t_dyn_single_loop,
             t_dyn_pin / t_dyn_single_loop,
+        ),
+        (
+            "  its function compiled plainly (thread pool)",
+            t_dyn_plain,
+            t_dyn_pin / t_dyn_plain,
         ),
         ("Pinocchio crba + rnea", t_dyn_pin, 1.0),
     ]

@@ -53,23 +53,58 @@ def xla_flops(fn: Callable, *args) -> float:
 
 
 def program_structure(fn: Callable, *args) -> dict[str, int]:
-    """Counts in the compiled program of ``fn`` at ``args``: kernels (fusions, library calls and products
-    of the entry computation), gathers and scatters, constant arrays (not scalars), LAPACK / cuSOLVER calls and
-    XLA's YNN library fusions (small reductions handed to a library built for large ones)."""
+    """Counts in the compiled program of ``fn`` at ``args``: kernels (fusions, library calls and products of
+    the entry computation and of the conditional branches that compute, :func:`_executors`), gathers and
+    scatters, constant arrays (not scalars), LAPACK / cuSOLVER calls, XLA's YNN library fusions (small
+    reductions handed to a library built for large ones), and the largest array of the entry computation and
+    of a branch."""
     full = jax.jit(fn).lower(*args).compile().as_text()
-    entry = full[full.index("ENTRY") :]
+    entry, *branches = _executors(full)
+    both = [entry, *branches]
     return {
-        "kernels": len(re.findall(r"= \S+ (?:fusion|custom-call|dot)\(", entry)),
+        "kernels": sum(len(_KERNEL.findall(text)) for text in both),
         "gathers/scatters": len(re.findall(r"\b(?:gather|scatter)\(", full)),
-        "constant arrays": len([c for c in re.findall(r"= \w+\[([\d,]*)\]\S* constant\(", entry) if c]),
+        "constant arrays": sum(len([c for c in _CONSTANT.findall(text) if c]) for text in both),
         "solver calls": len(re.findall(r'custom_call_target="(?:lapack|cusolver|hipsolver)', full)),
         "YNN fusions": full.count("__ynn_fusion"),
         "largest array (bytes)": max(_array_bytes(entry), default=0),
         "largest array of a branch (bytes)": max(
-            (size for name, size in executor_arrays(full).items() if not entry.startswith(f"ENTRY %{name} ")),
-            default=0,
+            (max(_array_bytes(b), default=0) for b in branches), default=0
         ),
     }
+
+
+_KERNEL = re.compile(r"= \S+ (?:fusion|custom-call|dot)\(")
+_CONSTANT = re.compile(r"= \w+\[([\d,]*)\]\S* constant\(")
+
+
+def _computations(text: str) -> dict[str, str]:
+    """The computations of a compiled program's HLO ``text`` by name, the entry's under ``"ENTRY"``."""
+    out: dict[str, str] = {}
+    for block in re.split(r"\n(?=(?:ENTRY )?%\S+ .*\{\n)", text):
+        head = re.match(r"(ENTRY )?%(\S+) ", block)
+        if head:
+            out["ENTRY" if head.group(1) else head.group(2)] = block
+    return out
+
+
+def _executors(text: str) -> list[str]:
+    """The computations XLA's CPU runtime runs as executors of their own: the entry computation, then of each
+    of its conditionals the branch with the most kernels (the one that computes)."""
+    computations = _computations(text)
+    entry = computations["ENTRY"]
+    branches = []
+    for names in re.findall(r"branch_computations=\{([^}]*)\}", entry):
+        bodies = [computations[name.strip().lstrip("%")] for name in names.split(",")]
+        branches.append(max(bodies, key=lambda body: len(_KERNEL.findall(body))))
+    return [entry, *branches]
+
+
+def executor_arrays(text: str) -> dict[str, int]:
+    """The largest array (bytes) of each executor of a compiled program's HLO ``text`` (:func:`_executors`:
+    the entry computation, then the computing branch of each conditional), in that order; a fusion's inner
+    values are not arrays of the program."""
+    return {f"executor {k}": max(_array_bytes(body), default=0) for k, body in enumerate(_executors(text))}
 
 
 _BYTES = {
@@ -93,24 +128,6 @@ def _array_bytes(entry: str) -> list[int]:
         _BYTES.get(dtype, 8) * math.prod(int(d) for d in dims.split(",") if d)
         for dtype, dims in re.findall(r"\b(f64|s64|u64|c64|f32|s32|u32|f16|pred|s8|u8)\[([\d,]*)\]", entry)
     ]
-
-
-def executor_arrays(text: str) -> dict[str, int]:
-    """The largest array (bytes) each computation of a compiled program's HLO ``text`` makes at its own level,
-    by computation name: the entry computation and those XLA's CPU runtime runs as executors of their own
-    (conditional branches, loop bodies); a fusion's inner values are not arrays of the program."""
-    sizes: dict[str, int] = {}
-    computation = None
-    for line in text.splitlines():
-        head = re.match(r"^(?:ENTRY )?%(\S+) ", line)
-        if head and line.rstrip().endswith("{"):
-            computation = head.group(1)
-            continue
-        shape = re.match(r"\s*(?:ROOT )?%\S+ = (\w+)\[([\d,]*)\]", line)
-        if computation and shape and "fused" not in computation and "wrapped" not in computation:
-            size = _BYTES.get(shape.group(1), 8) * math.prod(int(d) for d in shape.group(2).split(",") if d)
-            sizes[computation] = max(sizes.get(computation, 0), size)
-    return sizes
 
 
 def describe_structure(label: str, counts: dict[str, int]) -> str:

@@ -221,11 +221,9 @@ def test_one_configuration_dynamics_keep_every_array_of_their_branch_small():
     q = sample_configurations(model.robot, 3, seed=2)
     eta = np.random.default_rng(2).normal(size=(3, model.robot.n_eta))
     program = jax.jit(batching.sequential(partial(reduced.reduced_terms_one, model), (0, 1)))
-    sizes = timing.executor_arrays(program.lower(q[0], eta[0]).compile().as_text())
-    entry = [name for name in sizes if name.startswith("main")]
-    branches = {name: size for name, size in sizes.items() if name not in entry}
-    assert branches and max(branches.values()) <= batching.SEQUENTIAL_BYTES, branches
-    assert sizes[entry[0]] == 800  # P and B are joined outside the branch
+    entry, *branches = timing.executor_arrays(program.lower(q[0], eta[0]).compile().as_text()).values()
+    assert branches and max(branches) <= batching.SEQUENTIAL_BYTES, branches
+    assert entry == 800  # P and B are joined outside the branch
     together = reduced.reduced_terms(model, q, eta)
     for k in range(3):
         for one, batch in zip(reduced.reduced_terms(model, q[k], eta[k]), together):
