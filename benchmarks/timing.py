@@ -56,22 +56,22 @@ def program_structure(fn: Callable, *args) -> dict[str, int]:
     """Counts in the compiled program of ``fn`` at ``args``: kernels (fusions, library calls and products of
     the entry computation and of the conditional branches that compute, :func:`_executors`), gathers and
     scatters, constant arrays (not scalars), LAPACK / cuSOLVER calls, XLA's YNN library fusions (small
-    reductions handed to a library built for large ones), and the largest array of the entry computation and
-    of a branch."""
+    reductions handed to a library built for large ones), and the largest array of the entry computation and,
+    where there are conditionals, of their computing branches."""
     full = jax.jit(fn).lower(*args).compile().as_text()
     entry, *branches = _executors(full)
     both = [entry, *branches]
-    return {
+    counts = {
         "kernels": sum(len(_KERNEL.findall(text)) for text in both),
         "gathers/scatters": len(re.findall(r"\b(?:gather|scatter)\(", full)),
         "constant arrays": sum(len([c for c in _CONSTANT.findall(text) if c]) for text in both),
         "solver calls": len(re.findall(r'custom_call_target="(?:lapack|cusolver|hipsolver)', full)),
         "YNN fusions": full.count("__ynn_fusion"),
         "largest array (bytes)": max(_array_bytes(entry), default=0),
-        "largest array of a branch (bytes)": max(
-            (max(_array_bytes(b), default=0) for b in branches), default=0
-        ),
     }
+    if branches:
+        counts["largest array of a branch (bytes)"] = max(max(_array_bytes(b), default=0) for b in branches)
+    return counts
 
 
 _KERNEL = re.compile(r"= \S+ (?:fusion|custom-call|dot)\(")
