@@ -14,15 +14,15 @@ compiled loop (a ``fori_loop`` that reads each block in place and writes it into
 block's intermediates stay in the L1/L2 cache. On accelerators, where one wide kernel over the whole batch is
 what the hardware wants, and for batches of at most one block, it is plain ``vmap``.
 
-**One configuration.** A program for one configuration is a few dozen to a hundred tiny kernels. XLA's CPU
-runtime runs them one after the other on the calling thread only when every array they touch is at most
-:data:`SEQUENTIAL_BYTES` (or there are at most 8 kernels); otherwise it schedules them over a thread pool, at
-a cost of about a microsecond per kernel, several times their work. That rule holds for each executor: the
-program itself and, separately, each branch of a conditional. So a one-configuration call on the CPU runs
-:func:`sequential`'s program: the function in a conditional's branch that returns every result in pieces of
-at most 512 bytes, joined outside it by a few kernels. The per-configuration definitions avoid forming
-larger intermediate arrays where the mathematics allows it (a stacked task's J̄ is formed part by part,
-:meth:`mobman.model.tasks.Stack.reduced_jacobian`; spatial inertias are held by columns,
+**One configuration.** A program for one configuration is a few dozen to a hundred and fifty tiny kernels.
+XLA's CPU runtime runs them one after the other on the calling thread only when every array they touch is at
+most :data:`SEQUENTIAL_BYTES` (or there are at most 8 kernels); otherwise it schedules them over a thread
+pool, at a cost of about a microsecond per kernel, several times their work. That rule holds for each
+executor: the program itself and, separately, each branch of a conditional. So a one-configuration call on
+the CPU runs :func:`sequential`'s program: the function in a conditional's branch that returns every result
+in pieces of at most 512 bytes, joined outside it by a few kernels. The per-configuration definitions avoid
+forming larger intermediate arrays where the mathematics allows it (a stacked task's J̄ is formed part by
+part, :meth:`mobman.model.tasks.Stack.reduced_jacobian`; spatial inertias are held by columns,
 :class:`mobman.dynamics.recursive.RigidInertia`); ``benchmarks/real_robots.py`` prints the largest array of
 the one-configuration programs.
 
