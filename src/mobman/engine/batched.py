@@ -76,8 +76,9 @@ def batched(
     by position (checked arrays, resolved defaults). ``min_share``: see :func:`across_cores`.
 
     The call runs: ``validate`` → :func:`across_cores` → ``jax.jit`` (``static``) → :func:`blocked` →
-    the function. The function itself stays plain (``fn.one``): traced code calls it, not the public
-    function, whose validation needs concrete arrays.
+    the function; an unbatched, untraced call on the CPU runs ``fn.sequential`` instead, the compiled
+    :func:`sequential` program. The function itself stays plain (``fn.one``): traced code calls it, not the
+    public function, whose validation needs concrete arrays.
     """
     arrays = tuple(sorted(core_dims))
 
@@ -113,6 +114,7 @@ def batched(
                 return call(validate(*args, **kwargs))
 
         public.one = fn  # type: ignore[attr-defined]
+        public.sequential = single  # type: ignore[attr-defined]
         return public
 
     return decorate
