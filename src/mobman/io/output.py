@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import secrets
 import shutil
 import tempfile
 from collections.abc import Iterator
@@ -40,9 +41,18 @@ def atomic_path(path: Path | str) -> Iterator[Path]:
     when it fails or is interrupted."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    handle, name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".partial")
-    os.close(handle)
-    temporary = Path(name)
+    # the name is chosen before the file is created (O_EXCL), so an interrupt landing just after its creation
+    # (inside tempfile.mkstemp it would leave the file behind, unnamed) is caught below and the file removed
+    while True:
+        temporary = path.parent / f".{path.name}.{secrets.token_hex(8)}.partial"
+        try:
+            os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        except FileExistsError:
+            continue  # another writer's name: never removed
+        except BaseException:
+            temporary.unlink(missing_ok=True)
+            raise
+        break
     try:
         yield temporary
         _permissions(temporary, 0o666)
