@@ -32,7 +32,7 @@ from mobman.engine import linalg
 from mobman.model import robots
 from mobman.model.tasks import Position
 
-from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_flops
+from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_cost
 
 L1 = L2 = 0.5
 W, K = 1.0, 0.5
@@ -127,9 +127,9 @@ def compiler_report(robot, task, law, ref, q0s: np.ndarray, seconds_per_step: fl
         return law(robot, task, q, 0.0, xs, xsd).eta
 
     block = jnp.asarray(q0s[:128])
-    flops = 4 * xla_flops(jax.vmap(evaluate), block) / block.shape[0]  # RK4: four law evaluations a step
+    cost = xla_cost(jax.vmap(evaluate), block).scaled(4 / block.shape[0])  # RK4: four law evaluations a step
     print_peak()
-    print(roofline("batched RK4 step (4 law evaluations)", flops, seconds_per_step))
+    print(roofline("batched RK4 step (4 law evaluations)", cost, seconds_per_step))
     print(describe_structure("law with ∇w5, one configuration", program_structure(evaluate, jnp.asarray(Q0))))
     gram = jnp.array([[2.0, 0.3], [0.3, 1.0]])
     eig = jax.value_and_grad(lambda a: linalg.eigvalsh(a)[1])

@@ -28,7 +28,7 @@ from mobman.dynamics import reduced
 from mobman.dynamics.actuators import DCMotor, TorqueBox
 from mobman.dynamics.load_capacity import eta_dot_from_samples, max_load
 
-from timing import best_time, print_peak, roofline, xla_flops
+from timing import best_time, print_peak, roofline, xla_cost
 
 LOAD_TARGET_S = 0.050
 
@@ -129,7 +129,7 @@ def main(argv=None) -> None:
         (rows[0], jax.vmap(lambda x: reduced.reduced_mass_matrix_one(model, x)), (block_q,)),
         (rows[1], jax.vmap(lambda x, e: reduced.reduced_bias_one(model, x, e)), (block_q, block_eta)),
     ):
-        print(roofline(name, xla_flops(fn, *args_) / block_q.shape[0], dt / n))
+        print(roofline(name, xla_cost(fn, *args_).per(block_q.shape[0]), dt / n))
     verdict = "meets" if t_load < LOAD_TARGET_S else "MISSES"
     print(
         f"load capacity, {len(t)} samples ({t[-1]:.0f} s at {args.rate:.0f} Hz): "

@@ -42,7 +42,7 @@ from mobman.model import MobileManipulator
 from mobman.model.robots import PANDA_LIMITS, PANDA_MODIFIED_DH, panda_differential
 from mobman.model.tasks import EulerAngles, Position, stack
 
-from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_flops
+from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_cost
 
 AGREEMENT = 1e-9
 """Largest difference from a reference implementation the benchmark accepts (it exits with an error above)."""
@@ -229,9 +229,8 @@ def compiler_report(robot: MobileManipulator, q: np.ndarray, seconds_per_config:
     """Print the roofline of the batched kernel and the structure of the compiled programs."""
     block = jnp.asarray(q[: batching.BLOCK])
     kernel = jax.vmap(lambda qi: batched(robot, qi))  # one block of the batched J̄ + measures
-    flops = xla_flops(kernel, block) / batching.BLOCK
     print_peak()
-    print(roofline("batched J̄ + w, w2, w5", flops, seconds_per_config))
+    print(roofline("batched J̄ + w, w2, w5", xla_cost(kernel, block).per(batching.BLOCK), seconds_per_config))
     one = jnp.asarray(q[0])
     structures = [
         ("one configuration (jacobian_and_measures)", lambda qi: mp.jacobian_and_measures(robot, qi), one),

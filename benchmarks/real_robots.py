@@ -17,7 +17,8 @@ diagnostic rows show the cost of XLA's CPU scheduling: the compiled J̄ + measur
 all at most 512 bytes, and the same program with one 800-byte output added. The structure printed is that
 of the programs a one-configuration call runs (``mobman.engine.batched.sequential``: the function in a
 conditional's branch, which returns its results in blocks of at most 512 bytes), and a row times the
-dynamics' function compiled plainly, which XLA schedules over its thread pool. The run
+dynamics' function compiled plainly, which XLA schedules over its thread pool. The rooflines printed
+are XLA's count of the flops and the bytes moved per configuration of one block of each batched program. The run
 prints the ratios (Pinocchio's time per configuration over mobman's) and never asserts a timing; it exits with
 an error when mobman and Pinocchio disagree by more than ``AGREEMENT`` (position rows of J̄, and Sᵀ M S with
 the wheels' spin inertia added to Pinocchio's).
@@ -38,12 +39,12 @@ import mobman  # noqa: F401  (float64)
 from mobman import dynamics as dyn
 from mobman import manipulability as mp
 from mobman.dynamics.reduced import reduced_terms, reduced_terms_one
-from mobman.engine.batched import sequential
+from mobman.engine.batched import BLOCK, sequential
 from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.model.tasks import EulerAngles, Position, stack
 from mobman.redundancy import sample_configurations
 
-from timing import best_time, describe_structure, program_structure
+from timing import best_time, describe_structure, print_peak, program_structure, roofline, xla_cost
 
 REPEAT = 7
 """Timed repetitions of each row (its best is printed): a shared machine's times vary from call to call."""
@@ -222,6 +223,19 @@ def main(argv=None) -> int:
     ]
     for name, t, ratio in rows:
         print(f"{name:58s} {1e6 * t:10.3f} {ratio:19.2f}")
+    # what one block of the batched programs computes and moves per configuration (XLA's count)
+    print_peak()
+    block_q, block_eta = jax.device_put(q[:BLOCK]), jax.device_put(eta[:BLOCK])
+    block_kinematics = jax.vmap(kinematics_one)
+    block_dynamics = jax.vmap(partial(reduced_terms_one, model))
+    print(roofline("J̄ + measures, batched", xla_cost(block_kinematics, block_q).per(BLOCK), t_batch))
+    print(
+        roofline(
+            "Sᵀ M S, bias and B, batched",
+            xla_cost(block_dynamics, block_q, block_eta).per(BLOCK),
+            t_dyn_batch,
+        )
+    )
     # the programs a one-configuration call runs: the function in a conditional's branch (sequential)
     kinematics_program = sequential(kinematics_one, (0,))
     print(describe_structure("J̄ + measures, one configuration", program_structure(kinematics_program, q[0])))

@@ -3,9 +3,11 @@
 Besides the timer, two readings of XLA's compiled programs that the benchmarks print (they are properties of
 the compiler's output, which change with the JAX version, so they are printed here, never asserted in tests):
 
-- :func:`xla_flops`: the floating-point operations XLA's own cost analysis counts for a compiled program
-  (``jax.jit(f).lower(*args).compile().cost_analysis()["flops"]``; a loop's body is counted once), which
-  :func:`roofline` sets against the machine's peak;
+- :func:`xla_cost`: the floating-point operations and the bytes read and written that XLA's own cost
+  analysis counts for a compiled program (``jax.jit(f).lower(*args).compile().cost_analysis()``; a loop's
+  body is counted once, a value recomputed in several fusions once per fusion), which :func:`roofline` sets
+  against the machine's peak: a batched program whose kernels move much more memory than their
+  operations need is bound by that traffic, not by its arithmetic;
 - :func:`program_structure`: the kernels of a compiled program (fusions, library calls, products), the
   operations that cost XLA's CPU runtime most in small programs (gathers, constant arrays, LAPACK calls) and
   its largest array: XLA's CPU runtime runs an executor's kernels (the program's, each conditional
@@ -23,7 +25,7 @@ import os
 import re
 import subprocess
 import time
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import jax
 
@@ -44,12 +46,29 @@ def compiled_text(fn: Callable, *args) -> str:
     return text[text.index("ENTRY") :]
 
 
-def xla_flops(fn: Callable, *args) -> float:
-    """Floating-point operations of one call of ``jax.jit(fn)`` at ``args``, by XLA's cost analysis."""
+class Cost(NamedTuple):
+    """XLA's count for one call of a compiled program."""
+
+    flops: float
+    bytes: float
+    """Bytes its kernels read and write (every intermediate array that is not fused away, read and written)."""
+
+    def scaled(self, factor: float) -> "Cost":
+        """The count of ``factor`` calls (a fraction: per item of a batched call)."""
+        return Cost(factor * self.flops, factor * self.bytes)
+
+    def per(self, items: int) -> "Cost":
+        """The count per item of a call over ``items`` items."""
+        return self.scaled(1.0 / items)
+
+
+def xla_cost(fn: Callable, *args) -> Cost:
+    """Floating-point operations and bytes accessed of one call of ``jax.jit(fn)`` at ``args``, by XLA's cost
+    analysis."""
     analysis = jax.jit(fn).lower(*args).compile().cost_analysis()
     if isinstance(analysis, (list, tuple)):  # older jaxlib: one dict per program
         analysis = analysis[0]
-    return float(analysis.get("flops", 0.0))
+    return Cost(float(analysis.get("flops", 0.0)), float(analysis.get("bytes accessed", 0.0)))
 
 
 def program_structure(fn: Callable, *args) -> dict[str, int]:
@@ -170,14 +189,16 @@ def cpu_peak() -> tuple[float, str]:
     return peak, f"{model}: {formula}"
 
 
-def roofline(label: str, flops_per_item: float, seconds_per_item: float) -> str:
-    """One line: XLA's flop count per item, the achieved fp64 GFLOP/s and, on a CPU, the share of its peak."""
-    achieved = flops_per_item / seconds_per_item / 1e9
-    line = f"{label}: {flops_per_item:,.0f} flops each (XLA), {achieved:.2f} GFLOP/s"
+def roofline(label: str, cost_per_item: Cost, seconds_per_item: float) -> str:
+    """One line: XLA's flop count per item, the achieved fp64 GFLOP/s and, on a CPU, the share of its peak;
+    the bytes its kernels move per item and the memory traffic that makes."""
+    achieved = cost_per_item.flops / seconds_per_item / 1e9
+    line = f"{label}: {cost_per_item.flops:,.0f} flops each (XLA), {achieved:.2f} GFLOP/s"
     if jax.default_backend() == "cpu":
         peak, _ = cpu_peak()
         line += f" = {100 * achieved / peak:.1f} % of the {peak:.0f} GFLOP/s peak"
-    return line
+    traffic = cost_per_item.bytes / seconds_per_item / 1e9
+    return line + f"; {cost_per_item.bytes / 1e3:,.1f} kB moved each, {traffic:.1f} GB/s"
 
 
 def print_peak() -> None:
