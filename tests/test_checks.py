@@ -1,6 +1,6 @@
 """The scalar and vector parameter checks of mobman.checks (finite, positive, non_negative, vector3,
 inertia_tensor): accepted values come back as floats, each rejection is a one-line ModelError naming the
-owner, the field and the allowed range."""
+owner, the field and the allowed range; and all_finite, the test of array arguments."""
 
 from __future__ import annotations
 
@@ -200,3 +200,16 @@ def test_inertia_tensor_rejections_name_the_field_and_the_allowed_form(value, al
 def test_an_integer_too_large_for_a_float_is_a_model_error(call, field):
     """An integer beyond the float range (e.g. from a TOML robot file) is refused like a non-finite value."""
     _rejects(call, field, "must be")
+
+
+# --- all_finite -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("size", [1, 13, 32, 33, 1000])  # the Python path (≤ 32 elements) and NumPy's
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf, None])
+def test_all_finite_agrees_with_numpy(size: int, bad: float | None) -> None:
+    arr = np.random.default_rng(size).uniform(0.5e308, 1e308, size)  # finite values whose sum overflows
+    if bad is not None:
+        arr[size // 2] = bad
+    assert checks.all_finite(arr) is bool(np.isfinite(arr).all()) is (bad is None)
+    assert checks.all_finite(arr.reshape(1, size, 1)) is (bad is None)

@@ -1,5 +1,6 @@
 """Validation of scalar parameters: each check returns the value as a float or raises
-:class:`~mobman.errors.ModelError` naming the owner, the field and the allowed range."""
+:class:`~mobman.errors.ModelError` naming the owner, the field and the allowed range; and
+:func:`all_finite`, the finiteness test of the public functions' array arguments."""
 
 from __future__ import annotations
 
@@ -9,6 +10,17 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman.errors import ModelError
+
+
+def all_finite(arr: np.ndarray) -> bool:
+    """No NaN or infinity in the host array ``arr``: a few elements (one configuration, one velocity) as
+    Python floats, three times faster than NumPy's test, which matters before a one-configuration compiled
+    call of a few tens of µs. A finite sum settles it; a sum that overflowed from finite values is told apart
+    by the test of each one."""
+    if arr.size <= 32:
+        values = arr.ravel().tolist()
+        return math.isfinite(sum(values)) or all(map(math.isfinite, values))
+    return bool(np.isfinite(arr).all())
 
 
 def finite(value: float, name: str, owner: str) -> float:

@@ -25,6 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from mobman.checks import all_finite
 from mobman.engine.batched import batched, traced
 from mobman.errors import InputError, SingularConfigurationError
 from mobman.model.robot import Frames, MobileManipulator
@@ -138,7 +139,7 @@ def _vector(x: npt.ArrayLike, name: str, size: int) -> np.ndarray | jax.Array:
         raise InputError(f"{name}: expected numbers, shape (..., {size}), got {type(x).__name__}") from None
     if arr.ndim < 1 or arr.shape[-1] != size:
         raise InputError(f"{name}: expected shape (..., {size}), got {arr.shape}")
-    if not np.isfinite(arr).all():
+    if not all_finite(arr):
         raise InputError(f"{name}: every component must be finite")
     return arr
 

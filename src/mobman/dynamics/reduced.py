@@ -24,6 +24,7 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from mobman.checks import all_finite
 from mobman.dynamics import equations as eq
 from mobman.dynamics.inertia import DynamicModel
 from mobman.engine.batched import batched, traced
@@ -180,7 +181,7 @@ def validated_eta(model: DynamicModel, value: npt.ArrayLike, name: str) -> np.nd
             f"{name} must have {n} components ({', '.join(model.robot.control_names)}), "
             f"got shape {tuple(arr.shape)}"
         )
-    finite = bool(jnp.all(jnp.isfinite(arr))) if on_device else bool(np.isfinite(arr).all())
+    finite = bool(jnp.all(jnp.isfinite(arr))) if on_device else all_finite(np.asarray(arr))
     if not finite:
         raise InputError(f"{name} contains NaN or infinite values")
     return arr if arr.dtype == jnp.float64 else arr.astype(jnp.float64)

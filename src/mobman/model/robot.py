@@ -19,6 +19,7 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from mobman.checks import all_finite
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, LinkInertial
@@ -31,15 +32,6 @@ if TYPE_CHECKING:
 
 
 _all_finite = jax.jit(lambda q: jnp.all(jnp.isfinite(q)))
-
-
-def _all_finite_host(arr: np.ndarray) -> bool:
-    """No NaN or infinity in arr (a few elements: Python floats, three times faster than NumPy's test). A
-    finite sum settles it; a sum that overflowed from finite values is told apart by the test of each one."""
-    if arr.size <= 32:
-        values = arr.ravel().tolist()
-        return math.isfinite(sum(values)) or all(map(math.isfinite, values))
-    return bool(np.isfinite(arr).all())
 
 
 def _in_host_memory(q: jax.Array) -> bool:
@@ -224,7 +216,7 @@ class MobileManipulator:
                 f"{self.name}: a configuration is {self.n_q} numbers ({', '.join(self.coordinate_names)}) or a "
                 f"batch of them, got {type(q).__name__} {str(q)[:40]!r}"
             ) from None
-        self._check_q(arr.shape, lambda: _all_finite_host(arr))
+        self._check_q(arr.shape, lambda: all_finite(arr))
         return arr
 
     def validate_q_on_device(self, q: jax.Array) -> jax.Array:
