@@ -1,9 +1,11 @@
-"""benchmarks/timing.py: the fp64 peak the benchmarks' rooflines divide by, from what ``lscpu`` reports."""
+"""benchmarks/timing.py: the fp64 peak the benchmarks' rooflines divide by, from what ``lscpu`` reports, and
+XLA's count of flops and bytes they print."""
 
 from __future__ import annotations
 
 import os
 
+import jax.numpy as jnp
 import pytest
 from benchmark_timing import timing
 
@@ -27,3 +29,13 @@ def test_peak_counts_doubles_per_fma_and_cycle(monkeypatch, vendor, family, flag
     peak, formula = timing.cpu_peak()
     assert peak == pytest.approx(CORES * 2.5 * fma * doubles * 2)
     assert f"{doubles} doubles" in formula
+
+
+def test_cost_of_a_fused_elementwise_program_is_its_operations_and_one_read_and_write():
+    """x ↦ 2x + 1 over n doubles, fused into one loop: 2 operations per element, 8 bytes read and 8 written."""
+    n = 1000
+    cost = timing.xla_cost(lambda x: x * 2.0 + 1.0, jnp.ones(n))
+    assert cost == timing.Cost(flops=2.0 * n, bytes=16.0 * n)
+    assert cost.per(n) == timing.Cost(2.0, 16.0)
+    line = timing.roofline("2x + 1", cost.per(n), 1e-9)  # one element a nanosecond
+    assert "2 flops each (XLA), 2.00 GFLOP/s" in line and "16.0 GB/s" in line
