@@ -10,9 +10,8 @@ root joint), the selection of the v_x, ω_z and chain columns (S), and NumPy's S
 reference per configuration is Pinocchio's ``crba`` + ``rnea`` (mass matrix and bias) on the same root joint,
 every joint off the chain locked (``buildReducedModel``), as in ``tests/test_urdf_pinocchio.py``.
 
-A one-configuration call is timed twice: with each result waited for before the next call (the latency a
-controller sees, as Pinocchio's synchronous calls), and as calls in a loop with the last result waited for
-(JAX's asynchronous dispatch overlaps one call's Python work with the previous call's computation). Two
+A one-configuration call is timed with each result waited for before the next call (the latency a controller
+sees, as Pinocchio's synchronous calls; mobman runs CPU programs on the calling thread, :mod:`mobman`). Two
 diagnostic rows show the cost of XLA's CPU scheduling: the compiled J̄ + measures program, whose arrays are
 all at most 512 bytes, and the same program with one 800-byte output added. The structure printed is that
 of the programs a one-configuration call runs (``mobman.engine.batched.sequential``: the function in a
@@ -126,18 +125,14 @@ def main(argv=None) -> int:
         jbar = mp.system_jacobian(robot, q_device)
         return jbar, mp.measures(jbar)
 
-    def per_call(fn, wait: bool = True) -> float:
-        """Seconds per call of ``fn(i)`` for configuration i, one configuration (NumPy arrays) per call.
-        ``wait``: each result is waited for before the next call (the latency a controller sees); otherwise
-        the calls follow one another and only the last result is waited for (JAX's asynchronous dispatch
-        then overlaps each call's Python work with the previous call's computation)."""
+    def per_call(fn) -> float:
+        """Seconds per call of ``fn(i)`` for configuration i, one configuration (NumPy arrays) per call, each
+        result waited for before the next call."""
 
         def run():
             out = None
             for i in range(args.single):
-                out = fn(i)
-                if wait:
-                    jax.block_until_ready(out)
+                out = jax.block_until_ready(fn(i))
             return out
 
         jax.block_until_ready(run())
@@ -146,7 +141,6 @@ def main(argv=None) -> int:
     jbar, _ = jax.block_until_ready(batched())
     t_batch = best_time(batched, REPEAT) / args.n
     t_single = per_call(lambda i: mp.jacobian_and_measures(robot, q[i]))
-    t_single_loop = per_call(lambda i: mp.jacobian_and_measures(robot, q[i]), wait=False)
     t_pin = best_time(lambda: pinocchio_kinematics(pin_model, q_pin), REPEAT) / args.single
     # the fixed cost of any compiled call with a NumPy argument: the floor of a one-configuration call
     identity = jax.jit(lambda x: x)
@@ -173,7 +167,6 @@ def main(argv=None) -> int:
     p_ours, _, _ = jax.block_until_ready(dyn_batched())
     t_dyn_batch = best_time(dyn_batched, REPEAT) / nd
     t_dyn_single = per_call(lambda i: reduced_terms(model, q[i], eta[i]))
-    t_dyn_single_loop = per_call(lambda i: reduced_terms(model, q[i], eta[i]), wait=False)
     # the same function compiled plainly: P and B (800 bytes) make XLA schedule it over its thread pool
     plain_dynamics = jax.jit(partial(reduced_terms_one, model))
     t_dyn_plain = per_call(lambda i: plain_dynamics(q[i], eta[i]))
@@ -202,18 +195,12 @@ def main(argv=None) -> int:
     rows = [
         ("J̄ + measures, batched (mobman)", t_batch, t_pin / t_batch),
         ("J̄ + measures, one configuration per call (mobman)", t_single, t_pin / t_single),
-        ("  the same, calls in a loop, the last one waited for", t_single_loop, t_pin / t_single_loop),
         ("Pinocchio computeFrameJacobian + columns + NumPy SVD", t_pin, 1.0),
         ("a compiled call of the identity (JAX's cost per call)", t_floor, t_pin / t_floor),
         ("J̄ + measures' compiled program alone, one configuration", t_program, t_pin / t_program),
         ("  the same with an 800-byte output added (thread pool)", t_padded, t_pin / t_padded),
         ("Sᵀ M S, bias and B, batched (mobman)", t_dyn_batch, t_dyn_pin / t_dyn_batch),
         ("Sᵀ M S, bias and B, one configuration per call (mobman)", t_dyn_single, t_dyn_pin / t_dyn_single),
-        (
-            "  the same, calls in a loop, the last one waited for",
-            t_dyn_single_loop,
-            t_dyn_pin / t_dyn_single_loop,
-        ),
         (
             "  its function compiled plainly (thread pool)",
             t_dyn_plain,

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import threading
 from functools import partial
 
@@ -245,3 +248,21 @@ def test_only_an_unbatched_untraced_cpu_call_runs_the_sequential_program():
     one = scaled_outer(x[0])
     assert scaled_outer.sequential._cache_size() == 1
     np.testing.assert_array_equal(np.asarray(one), 2.0 * np.outer(x[0], x[0]))
+
+
+@pytest.mark.parametrize(
+    ("environment", "expected"),
+    [(None, "False"), ("1", "True"), ("Yes", "True"), ("0", "False"), ("off", "False"), ("maybe", "False")],
+)
+def test_importing_mobman_makes_cpu_dispatch_synchronous_unless_asked_not_to(environment, expected):
+    """mobman turns JAX's asynchronous CPU dispatch off (a one-configuration program then runs on the
+    calling thread, without a hand-over to a worker) unless ``MOBMAN_CPU_ASYNC_DISPATCH`` asks to keep it;
+    a value that is not a yes or no is a warning naming the variable."""
+    env = {k: v for k, v in os.environ.items() if k != "MOBMAN_CPU_ASYNC_DISPATCH"}
+    if environment is not None:
+        env["MOBMAN_CPU_ASYNC_DISPATCH"] = environment
+    code = "import jax, mobman; print(jax.config.values['jax_cpu_enable_async_dispatch'])"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == expected
+    assert ("MOBMAN_CPU_ASYNC_DISPATCH must be" in out.stderr) == (environment == "maybe")
