@@ -16,7 +16,10 @@ diagnostic rows show the cost of XLA's CPU scheduling: the compiled J̄ + measur
 all at most 512 bytes, and the same program with one 800-byte output added. The structure printed is that
 of the programs a one-configuration call runs (``mobman.engine.batched.sequential``: the function in a
 conditional's branch, which returns its results in blocks of at most 512 bytes), and a row times the
-dynamics' function compiled plainly, which XLA schedules over its thread pool. The rooflines printed
+dynamics' function compiled plainly, which XLA schedules over its thread pool. Two more rows time a compiled
+call with the same arguments and results as each one-configuration program but no kernels of its own
+(:func:`results_only`): what remains of the call's time above it is its kernels' and the Python work before it
+(validation). The rooflines printed
 are XLA's count of the flops and the bytes moved per configuration of one block of each batched program. The run
 prints the ratios (Pinocchio's time per configuration over mobman's) and never asserts a timing; it exits with
 an error when mobman and Pinocchio disagree by more than ``AGREEMENT`` (position rows of J̄, and Sᵀ M S with
@@ -97,6 +100,18 @@ def pinocchio_dynamics(model, q_pin: np.ndarray, v_pin: np.ndarray):
     return np.triu(m) + np.triu(m, 1).T
 
 
+def results_only(fn, arrays: tuple[int, ...]):
+    """A compiled one-configuration program with ``fn``'s arguments and results (shapes, dtypes, the same
+    ``sequential`` form) whose results are one value filled in: the fixed cost of such a call, without the
+    kernels of ``fn``."""
+
+    def filled(*args):
+        value = sum(args[i][0] for i in arrays)
+        return jax.tree.map(lambda r: jnp.full(r.shape, value, r.dtype), jax.eval_shape(fn, *args))
+
+    return jax.jit(sequential(filled, arrays))
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100_000, help="configurations, batched kinematics")
@@ -157,6 +172,8 @@ def main(argv=None) -> int:
     padded = jax.jit(lambda x: (one_kinematics(x), jnp.zeros(100, x.dtype) + x[0]))
     t_program = per_call(lambda i: one_kinematics(q[i]))
     t_padded = per_call(lambda i: padded(q[i]))
+    kinematics_results = results_only(kinematics_one, (0,))
+    t_results = per_call(lambda i: kinematics_results(q[i]))
 
     nd = args.n_dynamics
     q_dyn, eta_dyn = jax.device_put(q[:nd]), jax.device_put(eta[:nd])
@@ -170,6 +187,8 @@ def main(argv=None) -> int:
     # the same function compiled plainly: P and B (800 bytes) make XLA schedule it over its thread pool
     plain_dynamics = jax.jit(partial(reduced_terms_one, model))
     t_dyn_plain = per_call(lambda i: plain_dynamics(q[i], eta[i]))
+    dynamics_results = results_only(partial(reduced_terms_one, model), (0, 1))
+    t_dyn_results = per_call(lambda i: dynamics_results(q[i], eta[i]))
     t_dyn_pin = best_time(lambda: pinocchio_dynamics(pin_model, q_pin, v_pin), REPEAT) / args.single
 
     # agreement: position rows of the last configuration's J̄; Sᵀ M S with the wheels' spin inertia
@@ -199,12 +218,18 @@ def main(argv=None) -> int:
         ("a compiled call of the identity (JAX's cost per call)", t_floor, t_pin / t_floor),
         ("J̄ + measures' compiled program alone, one configuration", t_program, t_pin / t_program),
         ("  the same with an 800-byte output added (thread pool)", t_padded, t_pin / t_padded),
+        ("  its arguments and results alone (no kernels of its own)", t_results, t_pin / t_results),
         ("Sᵀ M S, bias and B, batched (mobman)", t_dyn_batch, t_dyn_pin / t_dyn_batch),
         ("Sᵀ M S, bias and B, one configuration per call (mobman)", t_dyn_single, t_dyn_pin / t_dyn_single),
         (
             "  its function compiled plainly (thread pool)",
             t_dyn_plain,
             t_dyn_pin / t_dyn_plain,
+        ),
+        (
+            "  its arguments and results alone (no kernels of its own)",
+            t_dyn_results,
+            t_dyn_pin / t_dyn_results,
         ),
         ("Pinocchio crba + rnea", t_dyn_pin, 1.0),
     ]
