@@ -52,6 +52,23 @@ def robot_pixels():
 
 
 @pytest.fixture
+def cli_run(capsys):
+    """``cli_run(args)``: run ``mobman ARGS`` in-process and return (exit status, stdout, stderr)."""
+    from mobman.cli import main
+
+    def run(args: list[str]) -> tuple[int, str, str]:
+        try:
+            main(args)
+            code = 0
+        except SystemExit as exc:
+            code = exc.code
+        captured = capsys.readouterr()
+        return code, captured.out, captured.err
+
+    return run
+
+
+@pytest.fixture
 def cli_json(capsys):
     """``cli_json(args)``: run ``mobman ARGS --json`` in-process, assert exit 0 (stderr as the message) and return
     the printed JSON."""

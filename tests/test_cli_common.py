@@ -212,13 +212,16 @@ def test_load_robot_reads_a_urdf_file_with_its_options(tmp_path):
     from mobman.io.urdf import write_urdf
 
     path = write_urdf(robots.build("bayle-planar"), tmp_path / "planar.urdf")
-    robot = common.load_robot(str(path), None, {"tip": "tool_link", "base": None})
+    robot = common.load_robot(str(path), None, common.urdf_options(["tool_link"]))
     assert robot.n_q == 5 and robot.arms[0].n_joints == 2
 
 
 @pytest.mark.parametrize(
     ("name", "fragment"),
-    [("robot.urdf", "a URDF file takes --tip and --base"), ("robot.toml", "edit the robot file instead")],
+    [
+        ("robot.urdf", "a URDF file takes --tip, --base, --platform, --wheels and --lock"),
+        ("robot.toml", "edit the robot file instead"),
+    ],
 )
 def test_load_robot_refuses_parameters_for_files(name, fragment):
     with pytest.raises(InputError) as info:

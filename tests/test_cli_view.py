@@ -46,6 +46,13 @@ def test_results_of_another_robot_name_it(tmp_path, capsys):
     assert "korayem-planar (l0=0.4, l1=0.7, l2=0.5)" in err and "not of bayle-rrp" in err
 
 
+def test_urdf_options_for_a_results_folder_are_refused(tmp_path, capsys):
+    folder = _motion_folder(tmp_path / "run", robots.bayle_rrp())
+    code, err = _run(["view", str(folder), "--tip", "tool_link", "--port", "0"], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "--tip: for a URDF file (a path ending in .urdf), not a results folder" in err
+
+
 def test_missing_results(tmp_path, capsys):
     code, err = _run(["view", "bayle-rrp", "--results", str(tmp_path), "--port", "0"], capsys)
     assert code == 2 and "no trajectories.json" in err

@@ -28,7 +28,16 @@ from mobman import kinematics as K
 from mobman import manipulability as mp
 from mobman import redundancy
 from mobman.cli.app import app
-from mobman.cli.common import load_robot, read_configurations
+from mobman.cli.common import (
+    BASE_OPTION,
+    LOCK_OPTION,
+    PLATFORM_OPTION,
+    TIP_OPTION,
+    WHEELS_OPTION,
+    load_robot,
+    read_configurations,
+    urdf_options,
+)
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json
@@ -170,10 +179,11 @@ def analyze_command(
         ..., metavar="ROBOT", help="A built-in robot (see `mobman robots`), a .toml or a .urdf file."
     ),
     param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
-    tip: list[str] = typer.Option(
-        None, "--tip", help="URDF file: end-effector link, one per arm (default arm_tool_link)."
-    ),
-    base: str = typer.Option(None, "--base", help="URDF file: the platform link (default base_footprint)."),
+    tip: list[str] = TIP_OPTION,
+    base: str = BASE_OPTION,
+    platform: str = PLATFORM_OPTION,
+    wheels: str = WHEELS_OPTION,
+    lock: list[str] = LOCK_OPTION,
     q: str = typer.Option(
         None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."
     ),
@@ -190,7 +200,7 @@ def analyze_command(
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
 ) -> None:
     """Kinematics, redundancy (M, δ, D, R, D̄, R̄), singularities and manipulability at configurations."""
-    robot = load_robot(robot_name, param, {"tip": tip, "base": base})
+    robot = load_robot(robot_name, param, urdf_options(tip, base, platform, wheels, lock))
     configurations = _configurations(robot, q, q_file)
     field = "--q-file" if q_file is not None else "--q"
     outside = outside_limits(robot, configurations, field, strict_limits)

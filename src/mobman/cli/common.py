@@ -1,5 +1,5 @@
-"""Parsing helpers shared by the commands: robot names (and their dynamic models), NAME=VALUE parameters,
-vectors, CSV files."""
+"""Parsing helpers shared by the commands: robot names (and their dynamic models), the URDF reading options,
+NAME=VALUE parameters, vectors, CSV files."""
 
 from __future__ import annotations
 
@@ -23,15 +23,64 @@ if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
 
 
-def parse_params(items: list[str] | None) -> dict[str, float]:
-    """``["l1=0.5", "l2=0.3"]`` → {"l1": 0.5, "l2": 0.3}; one clear error for a malformed item."""
+def parse_params(items: list[str] | None, option: str = "--param") -> dict[str, float]:
+    """``["l1=0.5", "l2=0.3"]`` → {"l1": 0.5, "l2": 0.3}; one clear error naming ``option`` for a malformed
+    item."""
     params: dict[str, float] = {}
     for item in items or []:
         if "=" not in item:
-            raise InputError(f"--param {item!r}: expected NAME=VALUE")
+            raise InputError(f"{option} {item!r}: expected NAME=VALUE")
         name, value = item.split("=", 1)
-        params[name.strip()] = parse_number(value, f"--param {name.strip()}")
+        params[name.strip()] = parse_number(value, f"{option} {name.strip()}")
     return params
+
+
+# --- how a URDF file is read: the same options on every command that takes a ROBOT --------------------
+
+TIP_OPTION = typer.Option(
+    None, "--tip", help="URDF file: end-effector link, one per arm (repeatable; default arm_tool_link)."
+)
+BASE_OPTION = typer.Option(None, "--base", help="URDF file: the platform link (default base_footprint).")
+PLATFORM_OPTION = typer.Option(
+    None,
+    "--platform",
+    help="URDF file: the platform kind: auto (a differential drive found from its wheels, the default), "
+    "differential, car, skid_steer, omnidirectional or fixed.",
+)
+WHEELS_OPTION = typer.Option(
+    None, "--wheels", help="URDF file: the drive wheels' joints RIGHT,LEFT (default: found in the file)."
+)
+LOCK_OPTION = typer.Option(
+    None, "--lock", help="URDF file: hold a joint at a value, JOINT=VALUE (rad or m; repeatable)."
+)
+URDF_FLAGS = {
+    "tip": "--tip",
+    "base": "--base",
+    "platform": "--platform",
+    "wheels": "--wheels",
+    "locked": "--lock",
+}
+"""The command-line option of each :func:`mobman.io.urdf.read_urdf` argument the commands take."""
+
+
+def urdf_options(
+    tip: list[str] | None = None,
+    base: str | None = None,
+    platform: str | None = None,
+    wheels: str | None = None,
+    lock: list[str] | None = None,
+) -> dict:
+    """The :func:`mobman.io.urdf.read_urdf` arguments given on the command line (``--tip``, ``--base``,
+    ``--platform``, ``--wheels RIGHT,LEFT``, ``--lock JOINT=VALUE``); those not given keep read_urdf's
+    defaults."""
+    given = {
+        "tip": tuple(tip) if tip else None,
+        "base": base,
+        "platform": platform,
+        "wheels": None if wheels is None else tuple(name.strip() for name in wheels.split(",")),
+        "locked": parse_params(lock, "--lock") if lock else None,
+    }
+    return {key: value for key, value in given.items() if value is not None}
 
 
 MAX_STEPS = 10**6
@@ -110,15 +159,27 @@ def not_reached(command: str, reason: str) -> None:
     raise typer.Exit(NOT_REACHED)
 
 
+def refuse_urdf_options(urdf: dict | None, what: str) -> None:
+    """One line naming the URDF options given (:func:`urdf_options`) for ``what``, which is not a URDF file."""
+    if urdf:
+        flags = ", ".join(URDF_FLAGS[key] for key in urdf)
+        raise InputError(f"{flags}: for a URDF file (a path ending in .urdf), not {what}")
+
+
 def load_robot(name: str, params: list[str] | None = None, urdf: dict | None = None) -> MobileManipulator:
     """A built-in robot by name with --param overrides, a robot description file (a path ending in .toml), or
-    a URDF file (a path ending in .urdf, read by :func:`mobman.io.urdf.load_urdf` with the ``urdf`` options)."""
+    a URDF file (a path ending in .urdf, read by :func:`mobman.io.urdf.load_urdf` with the ``urdf`` options,
+    :func:`urdf_options`)."""
     if name.endswith(".urdf"):
         from mobman.io.urdf import load_urdf
 
         if params:
-            raise InputError("--param applies to built-in robots; a URDF file takes --tip and --base")
-        return load_urdf(name, **{k: v for k, v in (urdf or {}).items() if v})
+            raise InputError(
+                "--param applies to built-in robots; a URDF file takes --tip, --base, --platform, --wheels "
+                "and --lock"
+            )
+        return load_urdf(name, **(urdf or {}))
+    refuse_urdf_options(urdf, f"robot {name!r}")
     if name.endswith(".toml"):
         from mobman.io import robot_file
 
@@ -147,11 +208,7 @@ def load_dynamics(
         from mobman.io.urdf import read_urdf
 
         try:
-            model = (
-                urdf_model(key)
-                if key in REAL_ROBOTS
-                else read_urdf(name, **{k: v for k, v in (urdf or {}).items() if v})
-            )
+            model = urdf_model(key) if key in REAL_ROBOTS else read_urdf(name, **(urdf or {}))
             return DynamicModel.from_urdf(model), model.torque_limits()
         except ModelError as exc:
             raise ModelError(f"{option}: {exc}") from None

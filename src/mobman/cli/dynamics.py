@@ -35,8 +35,9 @@ com = [0.0, 0.0, 0.0]
 inertia = [0.0, 0.0, 0.0]
 arm = 0
 
-# actuators = "urdf"                 # a real robot (tiago, …): |τ| ≤ the URDF's effort limits; without
-                                     # [platform], [wheel] and [[links]] its URDF inertials are used
+# actuators = "urdf"                 # a robot read from a URDF (tiago, …, or [robot] file = "….urdf"): |τ| ≤
+                                     # the URDF's effort limits; without [platform], [wheel] and [[links]]
+                                     # its URDF inertials are used
 [actuators.theta1]                   # one table per limited actuator (others are unlimited)
 kind = "dc_motor"                    # dc_motor: stall_torque, no_load_speed | torque_box: lower, upper
 stall_torque = 63.22
@@ -69,6 +70,7 @@ from mobman.io.output import check_folder, results_folder, save_figure, write_te
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel, LoadCapacity, Payload
+    from mobman.io.urdf import UrdfModel
     from mobman.model.robot import MobileManipulator
 
 TOP_KEYS = ("gravity", "robot", "motion", "platform", "wheel", "links", "payload", "actuators")
@@ -99,18 +101,18 @@ def _vector(
     return tuple(arr.ravel())
 
 
-def _inertials(data: dict, robot: MobileManipulator) -> DynamicModel:
-    """Platform body, wheel, link inertials attached to the robot, payload. A real robot (``tiago``, …) given
-    without [platform], [wheel] and [[links]] takes them from its URDF."""
+def _inertials(data: dict, robot: MobileManipulator, urdf: UrdfModel | None) -> DynamicModel:
+    """Platform body, wheel, link inertials attached to the robot, payload. A robot read from a URDF (a real
+    robot such as ``tiago``, or a URDF file), ``urdf``, given without [platform], [wheel] and [[links]] takes
+    them from its URDF."""
     from dataclasses import replace
 
     from mobman import dynamics as dyn
-    from mobman.io.real_robots import REAL_ROBOTS, urdf_model
     from mobman.model.arm import LinkInertial
 
-    if robot.name in REAL_ROBOTS and not any(k in data for k in ("platform", "wheel", "links")):
+    if urdf is not None and not any(k in data for k in ("platform", "wheel", "links")):
         g_x, g_y, g_z = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
-        model = dyn.DynamicModel.from_urdf(urdf_model(robot.name), (g_x, g_y, g_z))
+        model = dyn.DynamicModel.from_urdf(urdf, (g_x, g_y, g_z))
         return replace(model, payload=_payload(data, robot))
     platform = fields.table(data, "platform", "platform")
     fields.keys(platform, "platform", ("mass", "inertia_z", "com"))
@@ -188,11 +190,11 @@ def _payload(data: dict, robot: MobileManipulator) -> Payload:
     return payload
 
 
-def _actuators(data: dict, names: tuple[str, ...], robot_name: str) -> dict:
+def _actuators(data: dict, names: tuple[str, ...], urdf: UrdfModel | None) -> dict:
     from mobman.dynamics.actuators import DCMotor, TorqueBox
 
     if data.get("actuators") == "urdf":
-        return _urdf_actuators(names, robot_name)
+        return _urdf_actuators(names, urdf)
     table = fields.table(data, "actuators", "actuators")
     if not table:
         raise InputError(
@@ -215,22 +217,22 @@ def _actuators(data: dict, names: tuple[str, ...], robot_name: str) -> dict:
     return result
 
 
-def _urdf_actuators(names: tuple[str, ...], robot_name: str) -> dict:
-    """``actuators = "urdf"``: |τ| ≤ the URDF's effort limit for every actuator that has one (a real robot)."""
+def _urdf_actuators(names: tuple[str, ...], urdf: UrdfModel | None) -> dict:
+    """``actuators = "urdf"``: |τ| ≤ the URDF's effort limit for every actuator that has one (a robot read
+    from a URDF: a real robot or a URDF file)."""
     from mobman.dynamics.actuators import TorqueBox
-    from mobman.io.real_robots import REAL_ROBOTS, urdf_model
+    from mobman.io.real_robots import REAL_ROBOTS
 
-    if robot_name not in REAL_ROBOTS:
+    if urdf is None:
         raise InputError(
-            f'actuators: "urdf" takes the effort limits of a real robot ({", ".join(REAL_ROBOTS)}), '
-            f"not {robot_name!r}"
+            f'actuators: "urdf" takes the effort limits of a robot read from a URDF (a real robot: '
+            f'{", ".join(REAL_ROBOTS)}, or [robot] file = "….urdf")'
         )
-    limits = urdf_model(robot_name).effort_limits
-    return {n: TorqueBox.symmetric(v) for n, v in zip(names, limits) if v is not None}
+    return {n: TorqueBox.symmetric(v) for n, v in zip(names, urdf.effort_limits) if v is not None}
 
 
 def _motion(
-    data: dict, robot: MobileManipulator, max_steps: int
+    data: dict, robot: MobileManipulator, max_steps: int, base: Path | None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
     """(t, q, η, description) of the motion table."""
     from mobman.control import simulate
@@ -261,7 +263,7 @@ def _motion(
         if "robot" in control:
             raise InputError("motion.control.robot: the robot is the top-level [robot]")
         try:
-            spec = parse_control({**control, "robot": data["robot"]})
+            spec = parse_control({**control, "robot": data["robot"]}, base)
         except InputError as exc:
             raise InputError(f"motion.control: {exc}") from None
         steps = int(round(spec.duration / spec.dt)) + 1
@@ -283,10 +285,11 @@ def _motion(
 def parse(data: dict, base: Path | None = None, max_steps: int = MAX_STEPS) -> LoadSpec:
     """Build a :class:`LoadSpec` from a TOML document already read into a dict (the motion is simulated)."""
     fields.keys(data, "spec", TOP_KEYS)
-    robot = robot_file.robot_table(data, base)
-    model = _inertials(data, robot)
-    actuators = _actuators(data, model.actuator_names, model.robot.name)
-    t, q, eta, motion = _motion(data, model.robot, max_steps)
+    urdf = robot_file.urdf_table(data, base)
+    robot = robot_file.robot_table(data, base) if urdf is None else urdf.robot
+    model = _inertials(data, robot, urdf)
+    actuators = _actuators(data, model.actuator_names, urdf)
+    t, q, eta, motion = _motion(data, model.robot, max_steps, base)
     return LoadSpec(model, t, q, eta, actuators, motion)
 
 

@@ -25,7 +25,16 @@ from rich.table import Table
 
 from mobman import kinematics as K
 from mobman.cli.app import app
-from mobman.cli.common import load_dynamics, load_robot
+from mobman.cli.common import (
+    BASE_OPTION,
+    LOCK_OPTION,
+    PLATFORM_OPTION,
+    TIP_OPTION,
+    WHEELS_OPTION,
+    load_dynamics,
+    load_robot,
+    urdf_options,
+)
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.dynamics.ellipsoids import (
     GRASPS,
@@ -64,7 +73,9 @@ def _positive(value: float, field: str) -> float:
 
 @app.command("ellipsoid")
 def ellipsoid_command(
-    robot_name: str = typer.Argument(..., metavar="ROBOT", help="A built-in robot (see `mobman robots`)."),
+    robot_name: str = typer.Argument(
+        ..., metavar="ROBOT", help="A built-in robot (see `mobman robots`), a .toml or a .urdf file."
+    ),
     q: str = typer.Option(
         ..., "--q", help="The configuration v1,v2,… in the robot's coordinate order (pi allowed)."
     ),
@@ -72,6 +83,11 @@ def ellipsoid_command(
         "kinematic", "--kind", help="kinematic (velocities) or dynamic (accelerations)."
     ),
     param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
+    tip: list[str] = TIP_OPTION,
+    base: str = BASE_OPTION,
+    platform: str = PLATFORM_OPTION,
+    wheels: str = WHEELS_OPTION,
+    lock: list[str] = LOCK_OPTION,
     held: bool = typer.Option(
         False, "--held", help="Ellipsoid of an object held by all the arms (see --grasp)."
     ),
@@ -100,7 +116,8 @@ def ellipsoid_command(
         raise InputError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if grasp not in GRASPS:
         raise InputError(f"--grasp must be one of {', '.join(GRASPS)}, got {grasp!r}")
-    robot = load_robot(robot_name, param)
+    urdf = urdf_options(tip, base, platform, wheels, lock)
+    robot = load_robot(robot_name, param, urdf)
     configuration = parse_vector(q, "--q", robot.n_q)
     robot.validate_q(configuration)
     outside = outside_limits(robot, configuration[None], "--q", strict_limits)[0]
@@ -114,7 +131,7 @@ def ellipsoid_command(
     if kind == "kinematic":
         e = kinematic_ellipsoid(robot, configuration, held=held, grasp=grasp)
     else:
-        model, limits = load_dynamics(robot_name, robot, "--kind dynamic")
+        model, limits = load_dynamics(robot_name, robot, "--kind dynamic", urdf)
         obj = None
         if held:
             obj = HeldObject(

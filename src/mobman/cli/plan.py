@@ -24,7 +24,16 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import load_robot, not_reached
+from mobman.cli.common import (
+    BASE_OPTION,
+    LOCK_OPTION,
+    PLATFORM_OPTION,
+    TIP_OPTION,
+    WHEELS_OPTION,
+    load_robot,
+    not_reached,
+    urdf_options,
+)
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json, trajectories
@@ -120,7 +129,9 @@ def _step(text: str) -> float | str:
 
 @app.command("plan")
 def plan_command(
-    robot_name: str = typer.Argument(..., metavar="ROBOT", help="built-in robot (see `mobman robots`)"),
+    robot_name: str = typer.Argument(
+        ..., metavar="ROBOT", help="A built-in robot (see `mobman robots`), a .toml or a .urdf file."
+    ),
     target: str = typer.Option(..., "--target", help="Desired task value y_d at time T, e.g. 0,0,1."),
     algorithm: str = typer.Option("pinv", "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
     horizon: float = typer.Option(1.0, "--horizon", help="Control horizon T > 0."),
@@ -137,6 +148,11 @@ def plan_command(
         help="Output extension for 'extended': coordinates (names or 0-based indices) or sums, e.g. 'x3, theta+x1'.",
     ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
+    tip: list[str] | None = TIP_OPTION,
+    base: str | None = BASE_OPTION,
+    platform: str | None = PLATFORM_OPTION,
+    wheels: str | None = WHEELS_OPTION,
+    lock: list[str] | None = LOCK_OPTION,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Path | None = typer.Option(None, "--out", help="Folder for the path and convergence figures."),
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
@@ -150,7 +166,7 @@ def plan_command(
         raise InputError(f"--harmonics must be in 0..{MAX_HARMONICS}, got {harmonics}")
     if not 1 <= max_iterations <= MAX_ITERATIONS:
         raise InputError(f"--max-iterations must be in 1..{MAX_ITERATIONS}, got {max_iterations}")
-    robot = load_robot(robot_name, params)
+    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
     if out is not None:
         check_folder(out, "plan")
     setting = PlanningSetting(robot, Fourier(harmonics), horizon=horizon)

@@ -8,7 +8,18 @@ from pathlib import Path
 import typer
 
 from mobman.cli.app import app
-from mobman.cli.common import load_dynamics, load_robot, parse_vector
+from mobman.cli.common import (
+    BASE_OPTION,
+    LOCK_OPTION,
+    PLATFORM_OPTION,
+    TIP_OPTION,
+    WHEELS_OPTION,
+    load_dynamics,
+    load_robot,
+    parse_vector,
+    refuse_urdf_options,
+    urdf_options,
+)
 from mobman.errors import InputError
 
 
@@ -41,12 +52,11 @@ def view_command(
         None, "--screenshot", help="Render one PNG headless (chromium) into this file and exit."
     ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
-    tip: list[str] | None = typer.Option(
-        None, "--tip", help="URDF file: end-effector link, one per arm (default arm_tool_link)."
-    ),
-    base: str | None = typer.Option(
-        None, "--base", help="URDF file: the platform link (default base_footprint)."
-    ),
+    tip: list[str] | None = TIP_OPTION,
+    base: str | None = BASE_OPTION,
+    platform: str | None = PLATFORM_OPTION,
+    wheels: str | None = WHEELS_OPTION,
+    lock: list[str] | None = LOCK_OPTION,
 ) -> None:
     """Serve a 3D view of a robot, a configuration or a run's motions in the browser."""
     from mobman.io import trajectories
@@ -61,12 +71,13 @@ def view_command(
     if not 0 <= port <= 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
     results_as_robot = False
-    urdf = {"tip": tip, "base": base}
+    urdf = urdf_options(tip, base, platform, wheels, lock)
     if _is_results(robot_name):
         if results is not None:
             raise InputError("give the results either as ROBOT or with --results, not both")
         results = Path(robot_name)
         results_as_robot = True
+        refuse_urdf_options(urdf, "a results folder (its robot is rebuilt from the results)")
         robot = robot_of(trajectories.read(results)[0])
     else:
         robot = load_robot(robot_name, params, urdf)

@@ -33,13 +33,23 @@ The ``[platform]`` keys are the fields of the platform's class (docs/platforms.m
 - ``fixed`` (:class:`mobman.Fixed`): no keys (the arm's base does not move).
 
 Wherever the command line takes a built-in robot name, a path ending in ``.toml`` loads such a file; a
-``[robot]`` table of a spec file takes ``file = "robot.toml"`` (relative to the spec) instead of ``name``.
+``[robot]`` table of a spec file takes ``file = "robot.toml"`` (relative to the spec) instead of ``name``, or a
+URDF file with the options of :func:`mobman.io.urdf.read_urdf` (:func:`urdf_table`)::
+
+    [robot]
+    file = "my_robot.urdf"           # relative to the spec
+    tip = "tool0"                    # optional, or a list of tips (one arm each); default arm_tool_link
+    base = "base_link"               # optional, default base_footprint
+    platform = "auto"                # optional: auto | car | differential | fixed | omnidirectional | skid_steer
+    wheels = ["wheel_right_joint", "wheel_left_joint"]   # optional: the drive wheels (right, left)
+    locked = { head_1_joint = 0.0 }  # optional: joints held at a value (rad or m)
 """
 
 from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from mobman.errors import InputError
 from mobman.io import spec as fields
@@ -52,6 +62,11 @@ from mobman.model.tasks import Position
 
 CONVENTIONS = {"dh": Arm.from_dh, "modified-dh": Arm.from_modified_dh}
 ARM_KEYS = ("name", "convention", "table", "kinds", "velocity_max", "limits", "tool", "mount")
+URDF_KEYS = ("file", "tip", "base", "platform", "wheels", "locked")
+"""The keys of a ``[robot]`` table that names a URDF file."""
+
+if TYPE_CHECKING:
+    from mobman.io.urdf import UrdfModel
 
 
 def _vector(entries: dict, key: str, field: str, size: int) -> list[float] | None:
@@ -142,15 +157,18 @@ def load(path: Path | str) -> MobileManipulator:
 
 
 def robot_table(data: dict, base: Path | None = None) -> MobileManipulator:
-    """The robot of the ``[robot]`` table: a built-in ``name`` with optional ``params`` (NAME = number), or a
-    robot description ``file`` (this module's format, a path relative to ``base``)."""
+    """The robot of the ``[robot]`` table: a built-in ``name`` with optional ``params`` (NAME = number), a
+    robot description ``file`` (this module's format), or a URDF ``file`` with its reading options
+    (:func:`urdf_table`); a file's path is relative to ``base``."""
     entry = fields.table(data, "robot", "robot")
+    urdf = _urdf_file(entry, base)
+    if urdf is not None:
+        return _read_urdf(entry, urdf).robot
     fields.keys(entry, "robot", ("name", "params", "file"))
     if "file" in entry:
         if "name" in entry or "params" in entry:
             raise InputError("robot: give either file or name (with params), not both")
-        path = Path(fields.text(entry, "file", "robot"))
-        return load(path if base is None or path.is_absolute() else base / path)
+        return load(_path(entry, base))
     name = entry.get("name")
     if not isinstance(name, str):
         raise InputError(f"robot.name: a built-in robot name ({', '.join(robots.ROBOTS)}), got {name!r}")
@@ -159,3 +177,52 @@ def robot_table(data: dict, base: Path | None = None) -> MobileManipulator:
         raise InputError(f"robot.params: must be a table of NAME = number, got {params!r}")
     params = {k: fields.number(params, k, "robot.params") for k in params}
     return fields.build("robot", robots.build, name=name, **params)
+
+
+def urdf_table(data: dict, base: Path | None = None) -> "UrdfModel | None":
+    """The URDF model behind the ``[robot]`` table (robot, inertials, effort limits): a built-in real robot by
+    ``name`` (``tiago``, …) or a URDF ``file`` (relative to ``base``) read with the table's ``tip``, ``base``,
+    ``platform``, ``wheels`` and ``locked`` (:func:`mobman.io.urdf.read_urdf`); None for any other robot."""
+    from mobman.io.real_robots import REAL_ROBOTS, urdf_model
+
+    entry = fields.table(data, "robot", "robot")
+    urdf = _urdf_file(entry, base)
+    if urdf is not None:
+        return _read_urdf(entry, urdf)
+    name = entry.get("name")
+    return urdf_model(name) if "file" not in entry and isinstance(name, str) and name in REAL_ROBOTS else None
+
+
+def _path(entry: dict, base: Path | None) -> Path:
+    path = Path(fields.text(entry, "file", "robot"))
+    return path if base is None or path.is_absolute() else base / path
+
+
+def _urdf_file(entry: dict, base: Path | None) -> Path | None:
+    """The path of the table's ``file`` when it names a URDF file."""
+    return _path(entry, base) if str(entry.get("file", "")).endswith(".urdf") else None
+
+
+def _names(value: object, field: str) -> tuple[str, ...]:
+    names = (value,) if isinstance(value, str) else value
+    if not isinstance(names, list | tuple) or not names or not all(isinstance(n, str) and n for n in names):
+        raise InputError(f"{field}: a link or joint name or a list of them, got {value!r}")
+    return tuple(names)
+
+
+def _read_urdf(entry: dict, path: Path) -> "UrdfModel":
+    from mobman.io.urdf import read_urdf
+
+    fields.keys(entry, "robot", URDF_KEYS)
+    options: dict = {key: fields.text(entry, key, "robot") for key in ("base", "platform") if key in entry}
+    if "tip" in entry:
+        options["tip"] = _names(entry["tip"], "robot.tip")
+    if "wheels" in entry:
+        wheels = _names(entry["wheels"], "robot.wheels")
+        if len(wheels) != 2:
+            raise InputError(f"robot.wheels: two joint names [right, left], got {list(wheels)}")
+        options["wheels"] = wheels
+    if "locked" in entry:
+        locked = fields.table(entry, "locked", "robot.locked")
+        options["locked"] = {name: fields.number(locked, name, "robot.locked") for name in locked}
+    return read_urdf(path, **options)

@@ -515,13 +515,13 @@ class _PlatformReader:
             seen = ", ".join(self.continuous_joints()) or "none"
             raise ModelError(
                 "URDF: no pair of wheel joints with a common horizontal axle (two continuous joints off the arm "
-                f"chains); continuous joints seen: {seen}; name them with wheels=(right, left) or choose "
-                "platform='omnidirectional'"
+                f"chains); continuous joints seen: {seen}; name the drive wheels (wheels=(right, left), "
+                "--wheels RIGHT,LEFT) or choose another platform (platform='omnidirectional' or 'fixed', --platform)"
             )
         if len(pairs) > 1:
             listed = "; ".join(f"({a.name}, {b.name})" for a, b in pairs)
             raise ModelError(
-                f"URDF: several wheel pairs qualify: {listed}; name one with wheels=(right, left)"
+                f"URDF: several wheel pairs qualify: {listed}; name one with wheels=(right, left) (--wheels RIGHT,LEFT)"
             )
         return self._sides(*pairs[0])
 
@@ -603,6 +603,8 @@ def read_urdf(
         close = difflib.get_close_matches(str(platform), kinds, n=1)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
         raise ModelError(f"platform must be one of {', '.join(kinds)}, got {platform!r}{hint}")
+    if wheels is not None and (isinstance(wheels, str) or len(wheels) != 2):
+        raise ModelError(f"wheels: two joint names (right, left), got {wheels!r}")
     options = dict(platform_options or {})
     urdf, file = _parse(path)
     tree = _Tree.of(urdf.robot)
