@@ -54,18 +54,9 @@ def robot_pixels():
 @pytest.fixture
 def cli_run(capsys):
     """``cli_run(args)``: run ``mobman ARGS`` in-process and return (exit status, stdout, stderr)."""
-    from mobman.cli import main
+    from cli_runs import run_cli
 
-    def run(args: list[str]) -> tuple[int, str, str]:
-        try:
-            main(args)
-            code = 0
-        except SystemExit as exc:
-            code = exc.code
-        captured = capsys.readouterr()
-        return code, captured.out, captured.err
-
-    return run
+    return lambda args: run_cli(args, capsys)
 
 
 @pytest.fixture

@@ -11,9 +11,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from cli_runs import run_cli as run
 from subprocesses import DUMP_ON_USR1, communicate_or_dump
-
-from mobman.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 ROBOT_FILE = (ROOT / "docs" / "examples" / "planar_robot.toml").read_text()
@@ -45,17 +44,6 @@ def escape_payload(marker: Path) -> str:
         "[c for c in ().__class__.__base__.__subclasses__() if c.__name__ == '_wrap_close'][0]"
         f".__init__.__globals__['system']('touch {marker}')"
     )
-
-
-def run(args: list[str], capsys) -> tuple[int, str, str]:
-    """Exit status, standard output and standard error of ``mobman ARGS`` run in this process."""
-    try:
-        main(args)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def one_line(err: str) -> str:
