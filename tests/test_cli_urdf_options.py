@@ -173,6 +173,7 @@ def test_a_robot_table_reads_a_urdf_file_relative_to_the_spec(planar):
 
 def test_urdf_table_is_the_real_robot_s_model_and_none_for_other_robots():
     assert robot_file.urdf_table({"robot": {"name": "tiago"}}) is urdf_model("tiago")
+    assert robot_file.urdf_table({"robot": {"name": "tiago_dual"}}) is urdf_model("tiago-dual")
     assert robot_file.urdf_table({"robot": {"name": "bayle-planar"}}) is None
     assert robot_file.urdf_table({"robot": {"file": "planar_robot.toml"}}) is None
     assert robot_file.urdf_table({"robot": {"name": ["tiago"]}}) is None  # robot_table names the field

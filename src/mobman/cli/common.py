@@ -17,7 +17,7 @@ from mobman.errors import InputError
 from mobman.io.numbers import parse_number, parse_vector
 from mobman.io.spec import read_text
 from mobman.model.robot import MobileManipulator
-from mobman.model.robots import build
+from mobman.model.robots import build, command_name
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
@@ -203,7 +203,7 @@ def load_dynamics(
     from mobman.errors import ModelError
     from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 
-    key = name.replace("_", "-")
+    key = command_name(name)
     if name.endswith(".urdf") or key in REAL_ROBOTS:
         from mobman.io.urdf import read_urdf
 

@@ -190,7 +190,8 @@ def urdf_table(data: dict, base: Path | None = None) -> "UrdfModel | None":
     if urdf is not None:
         return _read_urdf(entry, urdf)
     name = entry.get("name")
-    return urdf_model(name) if "file" not in entry and isinstance(name, str) and name in REAL_ROBOTS else None
+    key = robots.command_name(name) if isinstance(name, str) else None
+    return urdf_model(key) if "file" not in entry and key in REAL_ROBOTS else None
 
 
 def _path(entry: dict, base: Path | None) -> Path:

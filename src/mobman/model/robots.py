@@ -311,9 +311,14 @@ def register(name: str, factory: Callable[..., MobileManipulator]) -> None:
     ROBOTS[name] = factory
 
 
+def command_name(name: str) -> str:
+    """The command-line name that ``name`` spells: underscores read as hyphens (``tiago_dual``: ``tiago-dual``)."""
+    return name.replace("_", "-")
+
+
 def build(name: str, **params: float) -> MobileManipulator:
     """A built-in robot by its command-line name, with keyword parameters; clear errors otherwise."""
-    key = name.replace("_", "-")
+    key = command_name(name)
     if key not in ROBOTS:
         raise ModelError(f"unknown robot {name!r}; built-in robots: {', '.join(ROBOTS)}")
     factory = ROBOTS[key]
