@@ -28,16 +28,7 @@ from mobman import kinematics as K
 from mobman import manipulability as mp
 from mobman import redundancy
 from mobman.cli.app import app
-from mobman.cli.common import (
-    BASE_OPTION,
-    LOCK_OPTION,
-    PLATFORM_OPTION,
-    TIP_OPTION,
-    WHEELS_OPTION,
-    load_robot,
-    read_configurations,
-    urdf_options,
-)
+from mobman.cli.common import UrdfOption, load_robot, read_configurations, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json
@@ -179,11 +170,11 @@ def analyze_command(
         ..., metavar="ROBOT", help="A built-in robot (see `mobman robots`), a .toml or a .urdf file."
     ),
     param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
-    tip: list[str] = TIP_OPTION,
-    base: str = BASE_OPTION,
-    platform: str = PLATFORM_OPTION,
-    wheels: str = WHEELS_OPTION,
-    lock: list[str] = LOCK_OPTION,
+    tip: list[str] = UrdfOption.tip,
+    base: str = UrdfOption.base,
+    platform: str = UrdfOption.platform,
+    wheels: str = UrdfOption.wheels,
+    lock: list[str] = UrdfOption.lock,
     q: str = typer.Option(
         None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."
     ),

@@ -37,22 +37,28 @@ def parse_params(items: list[str] | None, option: str = "--param") -> dict[str, 
 
 # --- how a URDF file is read: the same options on every command that takes a ROBOT --------------------
 
-TIP_OPTION = typer.Option(
-    None, "--tip", help="URDF file: end-effector link, one per arm (repeatable; default arm_tool_link)."
-)
-BASE_OPTION = typer.Option(None, "--base", help="URDF file: the platform link (default base_footprint).")
-PLATFORM_OPTION = typer.Option(
-    None,
-    "--platform",
-    help="URDF file: the platform kind: auto (a differential drive found from its wheels, the default), "
-    "differential, car, skid_steer, omnidirectional or fixed.",
-)
-WHEELS_OPTION = typer.Option(
-    None, "--wheels", help="URDF file: the drive wheels' joints RIGHT,LEFT (default: found in the file)."
-)
-LOCK_OPTION = typer.Option(
-    None, "--lock", help="URDF file: hold a joint at a value, JOINT=VALUE (rad or m; repeatable)."
-)
+
+class UrdfOption:
+    """The command-line options of :func:`urdf_options`, as the defaults of each command's parameters."""
+
+    tip = typer.Option(
+        None, "--tip", help="URDF file: end-effector link, one per arm (repeatable; default arm_tool_link)."
+    )
+    base = typer.Option(None, "--base", help="URDF file: the platform link (default base_footprint).")
+    platform = typer.Option(
+        None,
+        "--platform",
+        help="URDF file: the platform kind: auto (a differential drive found from its wheels, the default), "
+        "differential, car, skid_steer, omnidirectional or fixed.",
+    )
+    wheels = typer.Option(
+        None, "--wheels", help="URDF file: the drive wheels' joints RIGHT,LEFT (default: found in the file)."
+    )
+    lock = typer.Option(
+        None, "--lock", help="URDF file: hold a joint at a value, JOINT=VALUE (rad or m; repeatable)."
+    )
+
+
 URDF_FLAGS = {
     "tip": "--tip",
     "base": "--base",

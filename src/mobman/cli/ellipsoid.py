@@ -25,16 +25,7 @@ from rich.table import Table
 
 from mobman import kinematics as K
 from mobman.cli.app import app
-from mobman.cli.common import (
-    BASE_OPTION,
-    LOCK_OPTION,
-    PLATFORM_OPTION,
-    TIP_OPTION,
-    WHEELS_OPTION,
-    load_dynamics,
-    load_robot,
-    urdf_options,
-)
+from mobman.cli.common import UrdfOption, load_dynamics, load_robot, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.dynamics.ellipsoids import (
     GRASPS,
@@ -83,11 +74,11 @@ def ellipsoid_command(
         "kinematic", "--kind", help="kinematic (velocities) or dynamic (accelerations)."
     ),
     param: list[str] = typer.Option(None, "--param", help="Robot parameter NAME=VALUE (repeatable)."),
-    tip: list[str] = TIP_OPTION,
-    base: str = BASE_OPTION,
-    platform: str = PLATFORM_OPTION,
-    wheels: str = WHEELS_OPTION,
-    lock: list[str] = LOCK_OPTION,
+    tip: list[str] = UrdfOption.tip,
+    base: str = UrdfOption.base,
+    platform: str = UrdfOption.platform,
+    wheels: str = UrdfOption.wheels,
+    lock: list[str] = UrdfOption.lock,
     held: bool = typer.Option(
         False, "--held", help="Ellipsoid of an object held by all the arms (see --grasp)."
     ),

@@ -24,16 +24,7 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import (
-    BASE_OPTION,
-    LOCK_OPTION,
-    PLATFORM_OPTION,
-    TIP_OPTION,
-    WHEELS_OPTION,
-    load_robot,
-    not_reached,
-    urdf_options,
-)
+from mobman.cli.common import UrdfOption, load_robot, not_reached, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json, trajectories
@@ -148,11 +139,11 @@ def plan_command(
         help="Output extension for 'extended': coordinates (names or 0-based indices) or sums, e.g. 'x3, theta+x1'.",
     ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
-    tip: list[str] | None = TIP_OPTION,
-    base: str | None = BASE_OPTION,
-    platform: str | None = PLATFORM_OPTION,
-    wheels: str | None = WHEELS_OPTION,
-    lock: list[str] | None = LOCK_OPTION,
+    tip: list[str] | None = UrdfOption.tip,
+    base: str | None = UrdfOption.base,
+    platform: str | None = UrdfOption.platform,
+    wheels: str | None = UrdfOption.wheels,
+    lock: list[str] | None = UrdfOption.lock,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Path | None = typer.Option(None, "--out", help="Folder for the path and convergence figures."),
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),

@@ -9,11 +9,7 @@ import typer
 
 from mobman.cli.app import app
 from mobman.cli.common import (
-    BASE_OPTION,
-    LOCK_OPTION,
-    PLATFORM_OPTION,
-    TIP_OPTION,
-    WHEELS_OPTION,
+    UrdfOption,
     load_dynamics,
     load_robot,
     parse_vector,
@@ -52,11 +48,11 @@ def view_command(
         None, "--screenshot", help="Render one PNG headless (chromium) into this file and exit."
     ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
-    tip: list[str] | None = TIP_OPTION,
-    base: str | None = BASE_OPTION,
-    platform: str | None = PLATFORM_OPTION,
-    wheels: str | None = WHEELS_OPTION,
-    lock: list[str] | None = LOCK_OPTION,
+    tip: list[str] | None = UrdfOption.tip,
+    base: str | None = UrdfOption.base,
+    platform: str | None = UrdfOption.platform,
+    wheels: str | None = UrdfOption.wheels,
+    lock: list[str] | None = UrdfOption.lock,
 ) -> None:
     """Serve a 3D view of a robot, a configuration or a run's motions in the browser."""
     from mobman.io import trajectories
