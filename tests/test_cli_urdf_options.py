@@ -164,6 +164,7 @@ def test_a_robot_table_reads_a_urdf_file_relative_to_the_spec(planar):
     expected = load_urdf(planar, tip="tool_link", locked={"q5": 0.5})
     assert robot.coordinate_names == expected.coordinate_names == ("x", "y", "theta", "q4")
     q = np.random.default_rng(0).uniform(-np.pi, np.pi, (50, robot.n_q))
+    q[:4, 2:] = np.array([0.0, np.pi / 2, -np.pi / 2, np.pi])[:, None]  # θ and q4 at 0, ±π/2, π
     np.testing.assert_array_equal(
         kinematics.reduced_jacobian(robot, q), kinematics.reduced_jacobian(expected, q)
     )
