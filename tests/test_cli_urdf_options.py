@@ -232,6 +232,27 @@ def test_load_capacity_of_tiago_s_urdf_file_takes_its_inertials_and_effort_limit
     assert loads[1]["limiting_actuator"] == loads[0]["limiting_actuator"]
 
 
+def test_a_load_capacity_spec_reads_its_urdf_file_once(tmp_path, monkeypatch):
+    """The [robot] file of a load-capacity spec whose motion is a control simulation is read once: the
+    simulation's specification takes the robot already built."""
+    import tomllib
+
+    from mobman.cli.dynamics import parse
+    from mobman.io import urdf
+
+    data = tomllib.loads((ROOT / "docs" / "examples" / "tiago_load.toml").read_text())
+    data["robot"] = {"file": str(REAL_ROBOTS["tiago"].path())}
+    data["motion"]["control"]["duration"] = data["motion"]["control"]["dt"]  # two samples
+    reads = []
+    original = urdf.read_urdf
+    monkeypatch.setattr(
+        urdf, "read_urdf", lambda *args, **kwargs: reads.append(args) or original(*args, **kwargs)
+    )
+    spec = parse(data, tmp_path)
+    assert len(reads) == 1
+    assert spec.model.robot.n_q == 3 + 8 and spec.q.shape == (2, spec.model.robot.n_q)
+
+
 def test_urdf_actuators_of_a_robot_without_a_urdf_name_both_sources():
     from mobman.cli.dynamics import parse
 

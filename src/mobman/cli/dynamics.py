@@ -263,7 +263,7 @@ def _motion(
         if "robot" in control:
             raise InputError("motion.control.robot: the robot is the top-level [robot]")
         try:
-            spec = parse_control({**control, "robot": data["robot"]}, base)
+            spec = parse_control(control, base, robot)
         except InputError as exc:
             raise InputError(f"motion.control: {exc}") from None
         steps = int(round(spec.duration / spec.dt)) + 1

@@ -215,10 +215,12 @@ def _law(data: dict) -> laws.Law:
     return fields.build("gains", cls, **values)
 
 
-def parse(data: dict, base: Path | None = None) -> Spec:
-    """Build a :class:`Spec` from a TOML document already read into a dict."""
+def parse(data: dict, base: Path | None = None, robot: MobileManipulator | None = None) -> Spec:
+    """Build a :class:`Spec` from a TOML document already read into a dict. ``robot``: the robot of the
+    document's [robot] table where the caller has built it already (it is then not read again)."""
     fields.keys(data, "spec", TOP_KEYS)
-    robot = robot_file.robot_table(data, base)
+    if robot is None:
+        robot = robot_file.robot_table(data, base)
     task_table = fields.table(data, "task", "task", required=False)
     task = robot.task if task_table is None else tasks.task(task_table, "task")
     try:
