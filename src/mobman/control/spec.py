@@ -216,8 +216,9 @@ def _law(data: dict) -> laws.Law:
 
 
 def parse(data: dict, base: Path | None = None, robot: MobileManipulator | None = None) -> Spec:
-    """Build a :class:`Spec` from a TOML document already read into a dict. ``robot``: the robot of the
-    document's [robot] table where the caller has built it already (it is then not read again)."""
+    """Build a :class:`Spec` from a TOML document already read into a dict. ``robot``: the robot, where the
+    caller has built it already (a load-capacity spec's top-level [robot]); the document's [robot] table is
+    then not read."""
     fields.keys(data, "spec", TOP_KEYS)
     if robot is None:
         robot = robot_file.robot_table(data, base)
