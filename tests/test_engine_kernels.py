@@ -132,6 +132,19 @@ EXAMPLES = {
         None,
         _symmetrized,
     ),
+    "mobman.model.spectra.extremes": (
+        [
+            (_symmetric(2),),
+            (_symmetric(3),),
+            (_symmetric(6),),
+            (_symmetric(6, (4,)),),
+            (_symmetric(8, (2,)),),
+            (-_symmetric(5, (3,)),),  # negative definite: the lower start −1, no Sturm shortcut
+        ],
+        0,
+        None,
+        _symmetrized,
+    ),
     "mobman.model.spectra.eigh": (
         [(_symmetric(2),), (_symmetric(6),), (_symmetric(4, (3,)),)],
         0,

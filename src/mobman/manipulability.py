@@ -76,20 +76,11 @@ def _squared_singular_values(j: jnp.ndarray) -> jnp.ndarray:
     return spectra.eigvalsh(spectra.gram(j))
 
 
-def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[str, jnp.ndarray]:
-    """w, w2, w5 from the squared singular values λ (descending, p = min(m, k) of them)."""
-    p = lam.shape[-1]
-    lam = jnp.maximum(lam, 0.0)
-    if rank is None and p < m:  # fewer columns than rows: σ_{p+1..m} = 0, always degenerate
-        zero = jnp.zeros(lam.shape[:-1], lam.dtype)
-        return {"yoshikawa": zero, "inverse_condition": zero, "eccentricity": zero + 1.0}
-    r = p if rank is None else rank
-    parts = spatial.unstack(lam)  # one split (one concatenation in reverse mode), not a slice per use
-    top, low = parts[0], parts[r - 1]
+def _measures(top: jnp.ndarray, low: jnp.ndarray, product: jnp.ndarray, undefined: jnp.ndarray) -> dict:
+    """w, w2, w5 from σ_1², σ_r² and σ_1² ⋯ σ_r² (all ≥ 0); NaN where ``undefined``."""
     ratio = jnp.clip(_safe_ratio(low, top), 0.0, 1.0)
-    undefined = jnp.isnan(reduce(jnp.add, parts))  # a non-finite J: NaN measures, never w = 0 or w5 = 1
     out = {
-        "yoshikawa": _safe_sqrt(reduce(jnp.multiply, parts[:r])),
+        "yoshikawa": _safe_sqrt(product),
         "inverse_condition": _safe_sqrt(ratio),
         "eccentricity": jnp.where(top > 0, _safe_sqrt(1.0 - ratio), 1.0),
     }
@@ -97,8 +88,24 @@ def _measures_from_squares(lam: jnp.ndarray, m: int, rank: int | None) -> dict[s
 
 
 def measures_one(j: jnp.ndarray, rank: int | None = None) -> dict[str, jnp.ndarray]:
-    """The measures of one m × k Jacobian (as :func:`measures`), unvalidated: for traced code."""
-    return _measures_from_squares(_squared_singular_values(j), j.shape[-2], rank)
+    """The measures of one m × k Jacobian (as :func:`measures`), unvalidated: for traced code.
+
+    Over all p = min(m, k) singular values they need only σ_1², σ_p² and their product det of the Gram
+    matrix (:func:`mobman.model.spectra.extremes`); restricted to a rank r < p, the r largest of all."""
+    m, p = j.shape[-2], min(j.shape[-2:])
+    if rank is None and p < m:  # fewer columns than rows: σ_{p+1..m} = 0, always degenerate
+        zero = jnp.zeros(j.shape[:-2], j.dtype)
+        return {"yoshikawa": zero, "inverse_condition": zero, "eccentricity": zero + 1.0}
+    if rank is None or rank == p:
+        top, low, det = spectra.extremes(spectra.gram(j))
+        top, low = jnp.maximum(top, 0.0), jnp.maximum(low, 0.0)
+        # a NaN in J: NaN measures, never w = 0 or w5 = 1; the product of the eigenvalues clipped at 0
+        return _measures(top, low, jnp.where(low > 0, det, 0.0), jnp.isnan(top + low + det))
+    lam = jnp.maximum(_squared_singular_values(j), 0.0)
+    parts = spatial.unstack(lam)  # one split (one concatenation in reverse mode), not a slice per use
+    return _measures(
+        parts[0], parts[rank - 1], reduce(jnp.multiply, parts[:rank]), jnp.isnan(reduce(jnp.add, parts))
+    )
 
 
 def _as_jacobian(j: npt.ArrayLike) -> jnp.ndarray:
