@@ -40,6 +40,7 @@ import jax.numpy as jnp
 from mobman.engine import linalg
 from mobman.engine.fusion import computed_once
 from mobman.engine.kernels import drop_in
+from mobman.engine.products import unstack
 
 ITERATIONS = 50
 """Most Laguerre steps (a repeated extreme eigenvalue, the slowest case seen, takes about 40)."""
@@ -151,9 +152,10 @@ def _laguerre(a: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray, jn
 
 
 def _from_eigenvalues(a: jnp.ndarray) -> _Extremes:
-    """The three from all eigenvalues (:func:`mobman.engine.linalg.eigvalsh`)."""
-    w = linalg.eigvalsh(a)
-    return w[..., 0], w[..., -1], jnp.prod(w, axis=-1)
+    """The three from all eigenvalues (:func:`mobman.engine.linalg.eigvalsh`), by one split (slices and a
+    product reduction would be kernels of their own in the 2 × 2 programs of planar tasks)."""
+    w = unstack(linalg.eigvalsh(a))
+    return w[0], w[-1], reduce(jnp.multiply, w)
 
 
 @jax.custom_batching.custom_vmap
