@@ -17,10 +17,12 @@ admissible subspace, the span of the r largest singular directions: w = σ_1⋯�
 w5 = √(1 − σ_r² / σ_1²). ``rank="auto"`` (in :func:`analyze`, :func:`gradient`) uses D̄ for the system and the
 generic rank of J_a for the arm whenever it is below m, and plain measures otherwise.
 
-**Numerics.** Singular values come from the eigenvalues λ_i = σ_i² of the smaller Gram matrix (J Jᵀ or Jᵀ J),
-computed by :func:`mobman.model.spectra.eigvalsh` (run by the engine's batched Jacobi solver,
-:mod:`mobman.engine.linalg`): absolute accuracy about eps · σ_1² on λ, so
-σ_i to about eps · σ_1² / σ_i (relative) and a tiny σ to about √eps · σ_1 absolute (see docs/manipulability.md).
+**Numerics.** Singular values come from the eigenvalues λ_i = σ_i² of the smaller Gram matrix (J Jᵀ or Jᵀ J):
+the measures over all of them read λ_max, λ_min and det (:func:`mobman.model.spectra.extremes`, run by the
+engine's tridiagonalisation and Laguerre's method, :mod:`mobman.engine.extremes`), restricted measures the r
+largest (:func:`mobman.model.spectra.eigvalsh`, the engine's batched Jacobi solver,
+:mod:`mobman.engine.linalg`). Both have absolute accuracy about eps · σ_1² on λ, so
+σ_i to about eps · σ_1² / σ_i² (relative) and a tiny σ to about √eps · σ_1 absolute (see docs/manipulability.md).
 Gradients use the eigenvalue perturbation rule; they are finite everywhere, exact away from repeated singular
 values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, get a zero derivative).
 """
