@@ -7,9 +7,9 @@
 - :mod:`mobman.engine.fusion`: :func:`~mobman.engine.fusion.computed_once`, for a value the drop-ins share
   between many consumers (XLA's fusion would recompute it in each).
 - The drop-ins: :mod:`~mobman.engine.products` (written-out small products, constants as scalars, Rodrigues'
-  formula), :mod:`~mobman.engine.linalg` (the batched Jacobi eigensolver), :mod:`~mobman.engine.extremes` (a batch's extreme
-  eigenvalues and determinants, for the manipulability measures), :mod:`~mobman.engine.frame_rule`
-  (the closed-form derivative of a frame's Jacobians).
+  formula), :mod:`~mobman.engine.linalg` (the batched Jacobi eigensolver), :mod:`~mobman.engine.extremes`
+  (a batch's extreme eigenvalues and determinants, for the manipulability measures),
+  :mod:`~mobman.engine.frame_rule` (the closed-form derivative of a frame's Jacobians).
 
 Importing the package registers every drop-in.
 """
