@@ -27,7 +27,7 @@ never wrong.
 One matrix is different, as for the Jacobi solver: on the CPU a single n × n matrix goes to LAPACK, one
 library call, where the loop is a few dozen tiny XLA kernels; ``vmap`` and explicit batches get the method
 above. Derivatives: dλ = vᵀ dA v for the two extreme eigenvectors and d det = Σ_i (∏_{j≠i} λ_j) dλ_i, from
-:func:`mobman.engine.linalg.eigh`, so gradients do not differentiate through the iterations.
+:func:`mobman.engine.linalg.eigenvalue_tangents`, so gradients do not differentiate through the iterations.
 """
 
 from __future__ import annotations
@@ -185,9 +185,7 @@ def _extremes(a: jnp.ndarray) -> _Extremes:
 @_extremes.defjvp
 def _extremes_jvp(primals, tangents):
     (a,), (da,) = primals, tangents
-    w, v = linalg.eigh(a)
-    da = 0.5 * (da + jnp.swapaxes(da, -1, -2))
-    dw = jnp.einsum("...ai,...ab,...bi->...i", v, da, v)
+    w, dw = linalg.eigenvalue_tangents(a, da)
     others = jnp.prod(jnp.where(jnp.eye(w.shape[-1], dtype=bool), 1.0, w[..., None, :]), axis=-1)  # ∏_{j≠i}
     return (w[..., 0], w[..., -1], jnp.prod(w, axis=-1)), (dw[..., 0], dw[..., -1], jnp.sum(others * dw, -1))
 

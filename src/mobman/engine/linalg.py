@@ -316,10 +316,17 @@ def _eigvalsh_iterative(a: jnp.ndarray, sweeps: int) -> jnp.ndarray:
 @_eigvalsh_iterative.defjvp
 def _eigvalsh_jvp(sweeps, primals, tangents):
     (a,), (da,) = primals, tangents
+    return eigenvalue_tangents(a, da, sweeps)
+
+
+def eigenvalue_tangents(
+    a: jnp.ndarray, da: jnp.ndarray, sweeps: int = SWEEPS
+) -> tuple[jnp.ndarray, jnp.ndarray]:
+    """Eigenvalues w (..., n), descending, of symmetric a and their first-order change dw_i = v_iᵀ dA v_i
+    along dA (symmetrised): the derivative rule of the engine's eigenvalue solvers (module notes)."""
     w, v = eigh(a, sweeps)
     da = 0.5 * (da + jnp.swapaxes(da, -1, -2))
-    dw = jnp.einsum("...ai,...ab,...bi->...i", v, da, v)
-    return w, dw
+    return w, jnp.einsum("...ai,...ab,...bi->...i", v, da, v)
 
 
 @drop_in("mobman.model.spectra.eigh")
