@@ -197,3 +197,6 @@ def extremes(a: jnp.ndarray) -> _Extremes:
     :func:`mobman.engine.linalg.eigvalsh` (its closed form, LAPACK) and its derivatives."""
     n = a.shape[-1]
     return _from_eigenvalues(a) if n <= 2 or n > linalg.MAX_JACOBI_SIZE else _extremes(a)
+
+
+__all__ = ["BELOW", "ITERATIONS", "extremes"]

@@ -335,4 +335,4 @@ def eigh(a: jnp.ndarray, sweeps: int = SWEEPS) -> tuple[jnp.ndarray, jnp.ndarray
     return _eigh_descending(a, True, sweeps)
 
 
-__all__ = ["SWEEPS", "eigh", "eigvalsh", "round_robin_pairs"]
+__all__ = ["SWEEPS", "eigenvalue_tangents", "eigh", "eigvalsh", "round_robin_pairs"]
