@@ -1,7 +1,8 @@
 """The ``mobman`` command: one Typer application, one module per command group.
 
 Every :class:`mobman.MobmanError` (and a bad option value) ends as one line on standard error and exit
-status 2, never a traceback; see :data:`mobman.cli.app.EXIT_CODES` for the others.
+status 2, never a traceback; see :data:`mobman.cli.app.EXIT_CODES` for the others. The command keeps its
+compiled programs between runs (:mod:`mobman.engine.compilation_cache`, ``MOBMAN_CACHE_DIR``).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import typer
 # Each module registers its commands on ``app`` when imported.
 from mobman.cli import analyze, dynamics, ellipsoid, plan, reproduce, robots, simulate, view  # noqa: F401
 from mobman.cli.app import INTERRUPTED, app
+from mobman.engine import compilation_cache
 from mobman.errors import MobmanError
 
 
@@ -29,6 +31,10 @@ def _command(argv: list[str] | None) -> str:
 def main(argv: list[str] | None = None) -> None:
     """Entry point of the console script; the exit status is that of :data:`EXIT_CODES`."""
     command = _command(argv)
+    try:
+        compilation_cache.enable()
+    except MobmanError as exc:  # the command still runs, compiling every program
+        typer.echo(f"warning: {_one_line(str(exc))}", err=True)
     try:
         code = app(args=argv, standalone_mode=False)
     except MobmanError as exc:

@@ -6,6 +6,8 @@
 - :mod:`mobman.engine.kernels`: the registry that swaps a tuned drop-in in for a plain definition of the model.
 - :mod:`mobman.engine.fusion`: :func:`~mobman.engine.fusion.computed_once`, for a value the drop-ins share
   between many consumers (XLA's fusion would recompute it in each).
+- :mod:`mobman.engine.compilation_cache`: JAX's persistent compilation cache in the user's cache folder (the
+  ``mobman`` command turns it on), so that a later process reads its compiled programs back.
 - The drop-ins: :mod:`~mobman.engine.products` (written-out small products, constants as scalars, Rodrigues'
   formula), :mod:`~mobman.engine.linalg` (the batched Jacobi eigensolver), :mod:`~mobman.engine.extremes`
   (a batch's extreme eigenvalues and determinants, for the manipulability measures),
