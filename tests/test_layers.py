@@ -1,7 +1,7 @@
 """The package's imports respect its layers (CONTRIBUTING.md): read from the source with ``ast``, nothing is
 imported. Every import counts, also those inside functions.
 
-    cli → experiments → control, planning, dynamics → manipulability, redundancy, symbolic → kinematics → model
+    cli → experiments → studies → control, planning, dynamics → manipulability, redundancy, symbolic → kinematics → model
 
 with errors, checks and the engine below everything; ``io`` imports only model, errors and checks and is imported
 by cli, experiments, control, planning and dynamics; ``viz`` is imported only by cli and experiments.
@@ -32,8 +32,9 @@ LAYERS = {
     "mobman.dynamics": 4,
     "mobman.viz": 4,
     "mobman.io": 4,
-    "mobman.experiments": 5,
-    "mobman.cli": 6,
+    "mobman.studies": 5,
+    "mobman.experiments": 6,
+    "mobman.cli": 7,
 }
 IO_MAY_IMPORT = ("mobman.io", "mobman.model", "mobman.errors", "mobman.checks")
 IO_IMPORTED_BY = (

@@ -1,0 +1,256 @@
+"""Base placement: where to park the platform so that the arm reaches a target of the task, and reaches it
+well.
+
+Every candidate platform pose (x, y, θ) of a polar grid around the target is tried. With the platform parked
+there, the arm's inverse kinematics is solved from several starting postures by damped least squares on the
+arm's coordinates q_a (the platform's columns of J held fixed),
+
+    Δq_a = J_aᵀ (J_a J_aᵀ + λ² I)⁻¹ e,   q_a ← clip(q_a + Δq_a, lower, upper),
+
+with e the task's error of ξ(q) with respect to the target ξ* (the difference, or the rotation vector of a
+:class:`~mobman.model.tasks.pose.Pose`), J_a the arm's columns of J (Bayle §3; the ``arm`` level of
+:mod:`mobman.manipulability`) and every step shortened to at most :data:`MAX_STEP` in each coordinate.
+Projection onto the joint limits keeps every posture admissible. A posture reaches the target when the norm
+of e is at most ``tolerance``; each base keeps its best start.
+
+A reached placement is scored by a manipulability measure at its posture (:mod:`mobman.manipulability`):
+by default Yoshikawa's w of the arm's Jacobian J_a, which says how well the arm moves the task with the
+platform parked, or of the whole system's J̄ = J S (``level="system"``; Bayle eq. 2), which also counts what
+the platform's admissible velocities add (Bayle; Nait-Chabane). The solver is one compiled loop
+(``lax.fori_loop``) batched over every base and start by :func:`mobman.engine.batched.batched`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import numpy.typing as npt
+
+from mobman import kinematics as K
+from mobman import manipulability as mp
+from mobman.engine.batched import batched
+from mobman.errors import InputError
+from mobman.model import spatial
+from mobman.model.robot import MobileManipulator
+from mobman.model.tasks import Task
+from mobman.redundancy import sample_configurations
+
+DAMPING = 1e-3
+"""λ of the damped least-squares step (in the task's units): small enough not to slow the last steps down
+(their error shrinks by about λ²/σ_min² per step), large enough to keep a step bounded at a singular J_a."""
+
+MAX_STEP = 0.5
+"""Largest change of one arm coordinate per step (rad or m): a step from far away stays in the region where
+J_a describes the motion."""
+
+LEVELS = ("arm", "system")
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Candidate platform poses and what the arm reaches from each.
+
+    ``bases`` (N, 3): the platform poses (x, y, θ); ``q`` (N, n_q): the best posture found from each (the
+    platform's further coordinates, such as a steering angle, at 0); ``error`` (N,): the norm of the task's
+    error there; ``reached`` (N,): error ≤ tolerance; ``score`` (N,): the measure at the posture where reached,
+    0 where not. ``best``: the index of the reached base with the highest score, None when no base reaches
+    the target. ``n_platform``: the platform's coordinates at the start of each row of ``q``.
+    """
+
+    target: np.ndarray
+    bases: np.ndarray
+    q: np.ndarray
+    error: np.ndarray
+    reached: np.ndarray
+    score: np.ndarray
+    measure: str
+    level: str
+    tolerance: float
+    n_platform: int
+
+    @property
+    def best(self) -> int | None:
+        if not self.reached.any():
+            return None
+        return int(np.argmax(np.where(self.reached, self.score, -np.inf)))
+
+    def ranking(self, count: int = 5, distinct: bool = True) -> np.ndarray:
+        """Indices of the ``count`` best reached bases, best first. ``distinct``: a base whose arm posture
+        equals (to 1e-6) that of a base already listed is left out. For a target the task's value does not
+        change when turned about the vertical, such as a point, every bearing around the centre with the same
+        distance and heading towards it is the same placement."""
+        reached = np.flatnonzero(self.reached)
+        order = reached[np.argsort(-self.score[reached], kind="stable")]
+        if not distinct:
+            return order[:count]
+        arm = self.q[:, self.n_platform :]
+        chosen: list[int] = []
+        for k in order:
+            if len(chosen) == count:
+                break
+            if not any(np.max(np.abs(arm[k] - arm[c])) <= 1e-6 for c in chosen):
+                chosen.append(int(k))
+        return np.asarray(chosen, dtype=int)
+
+
+def reach_radius(robot: MobileManipulator, arm: int = 0) -> float:
+    """An upper bound of the distance from the platform's reference point to what arm ``arm`` reaches: the
+    mount's offset, every joint origin's offset, the prismatic joints' largest travel and the tool's offset,
+    added up."""
+    mount = np.linalg.norm(spatial.fixed_pose(robot.mounts[arm].transform)[1])
+    chain = robot.arms[arm]
+    offsets = sum(float(np.linalg.norm(spatial.fixed_pose(j.origin)[1])) for j in chain.joints)
+    travel = sum(
+        max(abs(j.lower), abs(j.upper))
+        for j in chain.joints
+        if j.kind == "prismatic" and math.isfinite(j.lower)
+    )
+    return float(mount + offsets + travel + np.linalg.norm(spatial.fixed_pose(chain.tool)[1]))
+
+
+def candidate_bases(centre: npt.ArrayLike, radii: npt.ArrayLike, bearings: int, headings: int) -> np.ndarray:
+    """Platform poses (x, y, θ), shape (len(radii) · bearings · headings, 3): at each distance of ``radii``
+    from ``centre`` (x, y), ``bearings`` directions φ evenly around it, and ``headings`` headings evenly
+    over a turn, counted from the direction to the centre (the first faces it: θ = φ + π)."""
+    r = np.asarray(radii, dtype=float)
+    phi = 2.0 * np.pi * np.arange(bearings) / bearings
+    psi = 2.0 * np.pi * np.arange(headings) / headings
+    rr, pp, ss = (a.ravel() for a in np.meshgrid(r, phi, psi, indexing="ij"))
+    c = np.asarray(centre, dtype=float)
+    theta = np.mod(pp + np.pi + ss + np.pi, 2.0 * np.pi) - np.pi
+    return np.stack([c[0] + rr * np.cos(pp), c[1] + rr * np.sin(pp), theta], axis=-1)
+
+
+@batched({1: 1, 2: 1, 3: 1}, static=(0, 4, 5))
+def _solve(
+    robot: MobileManipulator,
+    base: jax.Array,
+    start: jax.Array,
+    target: jax.Array,
+    task: Task,
+    iterations: int,
+) -> tuple[jax.Array, jax.Array]:
+    """Damped least squares on the arm's coordinates from ``start`` with the platform at ``base`` (module
+    notes): (the last posture, the norm of its error)."""
+    n_p = robot.n_platform
+    platform = jnp.concatenate([base, jnp.zeros(n_p - 3, base.dtype)])
+    lower, upper = (jnp.asarray(b[n_p:], base.dtype) for b in np.array(robot.position_limits).T)
+
+    def error(q_a):
+        q = jnp.concatenate([platform, q_a])
+        return task.error(target, task.value(robot, q, robot.frames(q))), q
+
+    def step(_, q_a):
+        e, q = error(q_a)
+        j_a = K.jacobian_one(robot, task, q)[:, n_p:]
+        gram = j_a @ j_a.T + DAMPING**2 * jnp.eye(j_a.shape[0], dtype=j_a.dtype)
+        delta = j_a.T @ jnp.linalg.solve(gram, e)
+        delta = delta * jnp.minimum(1.0, MAX_STEP / jnp.maximum(jnp.max(jnp.abs(delta)), 1e-300))
+        return jnp.clip(q_a + delta, lower, upper)
+
+    q_a = jax.lax.fori_loop(0, iterations, step, jnp.clip(start, lower, upper))
+    e, q = error(q_a)
+    return q, jnp.linalg.norm(e)
+
+
+def place(
+    robot: MobileManipulator,
+    target: npt.ArrayLike,
+    *,
+    task: Task | None = None,
+    centre: npt.ArrayLike | None = None,
+    radii: npt.ArrayLike | None = None,
+    bearings: int = 16,
+    headings: int = 16,
+    starts: int = 4,
+    iterations: int = 60,
+    tolerance: float = 1e-6,
+    measure: str = "yoshikawa",
+    level: str = "arm",
+    seed: int = 0,
+) -> Placement:
+    """Try every platform pose of :func:`candidate_bases` for the task target ξ* ``target`` (m,) (module
+    notes) and score the reached ones.
+
+    ``centre``: the (x, y) the grid is centred on, by default the target's own x and y (the task's first two
+    coordinates when they are x and y, as in ``Position("xyz")`` and ``Pose``); ``radii``: the distances from
+    it, by default 8 from 0 to :func:`reach_radius`; ``starts``: starting postures per base (the arm's
+    coordinates at 0 clipped to the limits, then seeded random ones over the limits,
+    :func:`mobman.redundancy.sample_configurations`); ``measure``: one of
+    :data:`mobman.manipulability.MEASURES`; ``level``: ``"arm"`` (J_a) or ``"system"`` (J̄).
+    """
+    task = K.resolve_task(robot, task)
+    target = _vector(target, "target", task.dim, ", ".join(task.names))
+    centre = _centre(task, target) if centre is None else _vector(centre, "centre", 2, "x, y")
+    radii = np.linspace(0.0, reach_radius(robot), 8) if radii is None else np.asarray(radii, dtype=float)
+    if radii.ndim != 1 or radii.size == 0 or not np.all(np.isfinite(radii)) or np.any(radii < 0):
+        raise InputError(f"radii must be one or more finite distances ≥ 0, got {radii.tolist()}")
+    for name, value in (("bearings", bearings), ("headings", headings), ("starts", starts)):
+        if not (isinstance(value, (int, np.integer)) and value >= 1):
+            raise InputError(f"{name} must be an integer ≥ 1, got {value!r}")
+    if not (isinstance(iterations, (int, np.integer)) and iterations >= 1):
+        raise InputError(f"iterations must be an integer ≥ 1, got {iterations!r}")
+    if not (math.isfinite(tolerance) and tolerance > 0):
+        raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
+    if measure not in mp.MEASURES:
+        raise InputError(f"measure must be one of {', '.join(mp.MEASURES)}, got {measure!r}")
+    if level not in LEVELS:
+        raise InputError(f"level must be one of {', '.join(LEVELS)}, got {level!r}")
+    bases = candidate_bases(centre, radii, bearings, headings)
+    arm_part = slice(robot.n_platform, robot.n_q)
+    lower, upper = np.array(robot.position_limits).T
+    first = np.clip(np.zeros(robot.n_q), lower, upper)[arm_part]
+    seeds = sample_configurations(robot, starts - 1, seed)[:, arm_part]
+    start = np.concatenate([first[None], seeds])
+    q, error = _solve(robot, bases[:, None, :], start[None, :, :], target, task, int(iterations))
+    q, error = np.asarray(q), np.asarray(error)
+    pick = np.argmin(error, axis=1)
+    rows = np.arange(bases.shape[0])
+    q, error = q[rows, pick], error[rows, pick]
+    error = np.where(
+        np.isfinite(error), error, np.inf
+    )  # J undefined on the way (an Euler task's gimbal lock)
+    reached = error <= tolerance
+    scores = np.asarray(mp.jacobian_and_measures(robot, q, level, task)[1][measure])
+    return Placement(
+        target=np.asarray(target),
+        bases=bases,
+        q=q,
+        error=error,
+        reached=reached,
+        score=np.where(reached, scores, 0.0),
+        measure=measure,
+        level=level,
+        tolerance=float(tolerance),
+        n_platform=robot.n_platform,
+    )
+
+
+def _vector(value: npt.ArrayLike, name: str, size: int, names: str) -> np.ndarray:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be {size} numbers ({names}), got {value!r}") from None
+    if arr.shape != (size,):
+        raise InputError(f"{name} must be {size} numbers ({names}), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} contains NaN or infinite values")
+    return arr
+
+
+def _centre(task: Task, target: np.ndarray) -> np.ndarray:
+    """The target's x and y: the task's first two coordinates when they are the x and y of a point."""
+    first = task.names[:2]
+    if len(first) == 2 and first[0].startswith("x") and first[1].startswith("y"):
+        return target[:2]
+    raise InputError(
+        f"centre: the task's coordinates ({', '.join(task.names)}) do not start with x and y; give the (x, y) "
+        "the search is centred on"
+    )
+
+
+__all__ = ["DAMPING", "LEVELS", "MAX_STEP", "Placement", "candidate_bases", "place", "reach_radius"]

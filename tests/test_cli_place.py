@@ -1,0 +1,79 @@
+"""`mobman place` (mobman.cli.place): the ranked placements as JSON and as a table, exit status 3 when no base
+reaches the target, one line and exit status 2 for bad options."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from mobman import kinematics as K
+from mobman.cli import main
+from mobman.model import robots
+
+
+def _run(args: list[str], capsys) -> tuple[int, str, str]:
+    try:
+        main(args)
+        code = 0
+    except SystemExit as exc:
+        code = int(exc.code or 0)
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+GRID = ["--radii", "0.4,0.7", "--bearings", "2", "--headings", "4", "--starts", "3"]
+
+
+def test_tiago_json_ranks_bases_that_reach_the_target(capsys):
+    code, out, err = _run(["place", "tiago", "--target", "1,0.5,0.8", *GRID, "--top", "3", "--json"], capsys)
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["candidates"] == 16 and report["reached"] >= 3
+    assert report["task"] == ["x_ee", "y_ee", "z_ee"]
+    ranking = report["ranking"]
+    assert len(ranking) == 3 and ranking[0] == report["best"]
+    assert [e["score"] for e in ranking] == sorted((e["score"] for e in ranking), reverse=True)
+    q = np.array([e["q"] for e in ranking])
+    np.testing.assert_allclose(q[:, :3], [e["base"] for e in ranking])
+    tool = np.asarray(K.forward(robots.build("tiago"), q))
+    assert np.abs(tool - [1.0, 0.5, 0.8]).max() <= 1e-6
+
+
+def test_the_table_names_the_reached_count(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")
+    code, out, _ = _run(["place", "tiago", "--target", "1,0.5,0.8", *GRID], capsys)
+    assert code == 0
+    assert "bases reach" in out and "of 16" in out and "yoshikawa" in out
+
+
+def test_no_base_reaching_the_target_exits_3_with_the_candidates_reported(capsys):
+    # Bayle's planar robot with its heading task: a parked platform leaves the 2R arm two joints for three
+    # coordinates, so the grid's bases miss the target
+    args = ["place", "bayle-planar", "--target", "0.5,0.5,0.3", "--radii", "0.5", "--bearings", "3"]
+    code, out, err = _run([*args, "--headings", "3", "--starts", "1", "--json"], capsys)
+    assert code == 3
+    assert json.loads(out)["best"] is None and json.loads(out)["reached"] == 0
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "warning: mobman place: no base of the 9 reaches the target"
+    )
+
+
+@pytest.mark.parametrize(
+    ("options", "field"),
+    [
+        (["--target", "1,0.5"], "--target"),
+        (["--target", "1,0.5,0.8", "--bearings", "0"], "bearings"),
+        (["--target", "1,0.5,0.8", "--radii", "0.5,-1"], "radii"),
+        (["--target", "1,0.5,0.8", "--measure", "volume"], "measure"),
+        (["--target", "1,0.5,0.8", "--level", "wheels"], "level"),
+        (["--target", "1,0.5,0.8", "--top", "0"], "--top"),
+        (["--target", "1,0.5,0.8", "--centre", "1"], "--centre"),
+    ],
+)
+def test_bad_options_are_one_line_and_exit_2(capsys, options, field):
+    code, _, err = _run(["place", "tiago", *options], capsys)
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and field in lines[0] and lines[0].startswith("error:")

@@ -1,0 +1,156 @@
+"""Base placement (mobman.studies.placement): the reach and the manipulability of a planar 2R arm in closed form,
+TIAGo's reached postures against Pinocchio's forward kinematics, a full 6-D pose, and the errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mobman import kinematics as K
+from mobman.errors import InputError
+from mobman.model import robots
+from mobman.model.tasks import EulerAngles, Pose, Position
+from mobman.studies.placement import candidate_bases, place, reach_radius
+
+L1 = L2 = 0.5
+
+
+def _planar():
+    """Bayle's platform with its horizontal 2R arm at the axle midpoint, the task the tip's (x, y)."""
+    return robots.build("bayle-planar", l1=L1, l2=L2).with_task(Position("xy"))
+
+
+def test_candidate_bases_circle_the_centre_and_the_first_heading_faces_it():
+    bases = candidate_bases([1.0, -2.0], [0.5, 1.0], bearings=4, headings=3)
+    assert bases.shape == (2 * 4 * 3, 3)
+    offsets = bases[:, :2] - np.array([1.0, -2.0])
+    np.testing.assert_allclose(np.linalg.norm(offsets, axis=1), np.repeat([0.5, 1.0], 12), atol=1e-15)
+    facing = bases[::3]  # heading 0 of each (radius, bearing)
+    towards = -offsets[::3] / np.linalg.norm(offsets[::3], axis=1, keepdims=True)
+    np.testing.assert_allclose(np.c_[np.cos(facing[:, 2]), np.sin(facing[:, 2])], towards, atol=1e-12)
+    assert np.all((bases[:, 2] >= -np.pi) & (bases[:, 2] < np.pi))
+
+
+def test_a_planar_2r_arm_reaches_within_l1_plus_l2_with_the_closed_form_manipulability():
+    robot = _planar()
+    radii = [0.2, 0.5, np.sqrt(L1**2 + L2**2), 0.9, 1.1, 1.5]
+    target = np.array([0.3, -0.4])
+    result = place(robot, target, radii=radii, bearings=4, headings=4, starts=4)
+    distance = np.linalg.norm(result.bases[:, :2] - target, axis=1)
+    np.testing.assert_array_equal(result.reached, distance < L1 + L2)
+    assert result.error[result.reached].max() <= 1e-9
+    assert result.error[~result.reached].min() >= 0.1 - 1e-9  # 1.1 m away: 0.1 m short at best
+    # Yoshikawa's w of the arm's 2 × 2 Jacobian: |det J_a| = l1 l2 |sin q5|, with cos q5 from the distance
+    cos_q5 = (distance**2 - L1**2 - L2**2) / (2 * L1 * L2)
+    w = L1 * L2 * np.sqrt(np.clip(1.0 - cos_q5**2, 0.0, None))
+    np.testing.assert_allclose(result.score[result.reached], w[result.reached], atol=1e-9)
+    np.testing.assert_array_equal(result.score[~result.reached], 0.0)
+    # the best distance is √(l1² + l2²) (the elbow at a right angle, w = l1 l2), whatever the bearing
+    assert distance[result.best] == pytest.approx(np.sqrt(L1**2 + L2**2))
+    assert result.score[result.best] == pytest.approx(L1 * L2, abs=1e-9)
+    assert np.abs(np.asarray(K.forward(robot, result.q[result.reached])) - target).max() <= 1e-9
+
+
+def test_the_ranking_lists_each_relative_placement_once():
+    result = place(_planar(), [0.0, 0.0], radii=[0.3, 0.6, 0.9], bearings=6, headings=2, starts=2)
+    everything = result.ranking(count=100, distinct=False)
+    assert len(everything) == result.reached.sum() == 36
+    assert np.all(np.diff(result.score[everything]) <= 0)
+    distinct = result.ranking(count=100)
+    # the arm's posture depends on the distance and the heading towards the target, not on the bearing:
+    # at most 3 distances × 2 headings × 2 elbow branches of the 36 reached bases
+    arm = result.q[distinct, 3:]
+    assert 6 <= len(distinct) <= 12
+    assert all(
+        np.max(np.abs(arm[i] - arm[j])) > 1e-6 for i in range(len(arm)) for j in range(i + 1, len(arm))
+    )
+
+
+def _pinocchio_tool_positions(robot, q: np.ndarray) -> np.ndarray:
+    pin = pytest.importorskip("pinocchio")
+    from mobman.io.real_robots import REAL_ROBOTS
+
+    full = pin.buildModelFromUrdf(str(REAL_ROBOTS["tiago"].path()), pin.JointModelPlanar())
+    keep = {j.name for arm in robot.arms for j in arm.joints}
+    locked = [i for i in range(2, full.njoints) if full.names[i] not in keep]
+    model = pin.buildReducedModel(full, locked, pin.neutral(full))
+    data = model.createData()
+    frame = model.getFrameId("arm_tool_link")
+    out = []
+    for qi in q:
+        q_pin = np.zeros(model.nq)
+        q_pin[:4] = qi[0], qi[1], np.cos(qi[2]), np.sin(qi[2])
+        for k, joint in enumerate(j for arm in robot.arms for j in arm.joints):
+            q_pin[model.idx_qs[model.getJointId(joint.name)]] = qi[3 + k]
+        pin.framesForwardKinematics(model, data, q_pin)
+        out.append(data.oMf[frame].translation.copy())
+    return np.array(out)
+
+
+def test_tiago_s_reached_postures_put_its_tool_on_the_target_by_pinocchio_within_the_joint_limits():
+    robot = robots.build("tiago")
+    target = np.array([1.0, 0.5, 0.8])
+    result = place(robot, target, radii=[0.4, 0.7], bearings=2, headings=4, starts=3)
+    assert result.reached.sum() >= 4
+    reached = result.q[result.reached]
+    assert not robot.limit_violations(reached).any()
+    np.testing.assert_allclose(reached[:, :3], result.bases[result.reached], atol=0)
+    tool = _pinocchio_tool_positions(robot, reached)
+    assert np.abs(tool - target).max() <= 1e-6
+
+
+def test_a_full_pose_is_reached_from_the_base_it_was_taken_at():
+    robot = robots.build("tiago").with_task(Pose())
+    rng = np.random.default_rng(3)
+    lower, upper = np.array(robot.position_limits[3:]).T
+    q_star = np.concatenate([[0.0, 0.0, 0.0], rng.uniform(lower, upper)])
+    target = np.asarray(K.forward(robot, q_star))
+    # the grid's one radius is 0 about the origin: its two headings are θ = π and θ = 0, the base of q*
+    result = place(
+        robot, target, centre=[0.0, 0.0], radii=[0.0], bearings=1, headings=2, starts=8, iterations=200
+    )
+    np.testing.assert_allclose(result.bases[1], [0.0, 0.0, 0.0], atol=1e-15)
+    assert result.reached[1], result.error
+    pose = np.asarray(K.forward(robot, result.q[1]))
+    np.testing.assert_allclose(pose[:3], target[:3], atol=1e-6)
+    assert np.linalg.norm(np.asarray(robot.task.error(target, pose))) <= 1e-6
+
+
+def test_the_default_radii_run_from_zero_to_the_arm_s_reach():
+    robot = _planar()
+    assert reach_radius(robot) == pytest.approx(L1 + L2)
+    result = place(robot, [0.2, 0.1], bearings=2, headings=1, starts=1)
+    np.testing.assert_allclose(
+        np.unique(np.round(np.linalg.norm(result.bases[:, :2] - [0.2, 0.1], axis=1), 12)),
+        np.linspace(0.0, L1 + L2, 8),
+        atol=1e-12,
+    )
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"target": [1.0, 2.0, 3.0]}, r"target must be 2 numbers \(x_ee, y_ee\), got shape \(3,\)"),
+        ({"target": [np.nan, 0.0]}, "target contains NaN"),
+        ({"radii": [0.5, -0.1]}, "radii must be one or more finite distances ≥ 0"),
+        ({"radii": []}, "radii must be one or more"),
+        ({"bearings": 0}, "bearings must be an integer ≥ 1, got 0"),
+        ({"headings": 1.5}, "headings must be an integer ≥ 1"),
+        ({"starts": 0}, "starts must be an integer ≥ 1"),
+        ({"iterations": 0}, "iterations must be an integer ≥ 1"),
+        ({"tolerance": 0.0}, "tolerance must be a finite number > 0"),
+        ({"measure": "volume"}, "measure must be one of yoshikawa, inverse_condition, eccentricity"),
+        ({"level": "wheels"}, "level must be one of arm, system"),
+        ({"centre": [0.0]}, r"centre must be 2 numbers \(x, y\)"),
+    ],
+)
+def test_bad_input_is_one_error_naming_the_field(options, message):
+    arguments = {"target": [0.3, 0.2], **options}
+    with pytest.raises(InputError, match=message):
+        place(_planar(), arguments.pop("target"), **arguments)
+
+
+def test_a_task_without_x_and_y_needs_a_centre():
+    robot = robots.build("tiago").with_task(EulerAngles("ZYX"))
+    with pytest.raises(InputError, match=r"centre: the task's coordinates \(.*\) do not start with x and y"):
+        place(robot, [0.0, 0.0, 0.0])
