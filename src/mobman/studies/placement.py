@@ -186,15 +186,13 @@ def place(
     task = K.resolve_task(robot, task)
     target = _vector(target, "target", task.dim, ", ".join(task.names))
     centre = _centre(task, target) if centre is None else _vector(centre, "centre", 2, "x, y")
-    radii = np.linspace(0.0, reach_radius(robot), 8) if radii is None else np.asarray(radii, dtype=float)
-    if radii.ndim != 1 or radii.size == 0 or not np.all(np.isfinite(radii)) or np.any(radii < 0):
-        raise InputError(f"radii must be one or more finite distances ≥ 0, got {radii.tolist()}")
+    radii = np.linspace(0.0, reach_radius(robot), 8) if radii is None else _distances(radii)
     for name, value in (("bearings", bearings), ("headings", headings), ("starts", starts)):
         if not (isinstance(value, (int, np.integer)) and value >= 1):
             raise InputError(f"{name} must be an integer ≥ 1, got {value!r}")
     if not (isinstance(iterations, (int, np.integer)) and iterations >= 1):
         raise InputError(f"iterations must be an integer ≥ 1, got {iterations!r}")
-    if not (math.isfinite(tolerance) and tolerance > 0):
+    if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
         raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
     if measure not in mp.MEASURES:
         raise InputError(f"measure must be one of {', '.join(mp.MEASURES)}, got {measure!r}")
@@ -207,13 +205,11 @@ def place(
     seeds = sample_configurations(robot, starts - 1, seed)[:, arm_part]
     start = np.concatenate([first[None], seeds])
     q, error = _solve(robot, bases[:, None, :], start[None, :, :], target, task, int(iterations))
-    q, error = np.asarray(q), np.asarray(error)
+    # an error is NaN where J was undefined on the way (an Euler task's gimbal lock): never the best start
+    error = np.where(np.isnan(error), np.inf, np.asarray(error))
     pick = np.argmin(error, axis=1)
     rows = np.arange(bases.shape[0])
-    q, error = q[rows, pick], error[rows, pick]
-    error = np.where(
-        np.isfinite(error), error, np.inf
-    )  # J undefined on the way (an Euler task's gimbal lock)
+    q, error = np.asarray(q)[rows, pick], error[rows, pick]
     reached = error <= tolerance
     scores = np.asarray(mp.jacobian_and_measures(robot, q, level, task)[1][measure])
     return Placement(
@@ -239,6 +235,16 @@ def _vector(value: npt.ArrayLike, name: str, size: int, names: str) -> np.ndarra
         raise InputError(f"{name} must be {size} numbers ({names}), got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise InputError(f"{name} contains NaN or infinite values")
+    return arr
+
+
+def _distances(radii: npt.ArrayLike) -> np.ndarray:
+    try:
+        arr = np.asarray(radii, dtype=float)
+    except (TypeError, ValueError):
+        arr = np.array([np.nan])
+    if arr.ndim != 1 or arr.size == 0 or not np.all(np.isfinite(arr)) or np.any(arr < 0):
+        raise InputError(f"radii must be one or more finite distances ≥ 0, got {radii!r}")
     return arr
 
 
