@@ -10,6 +10,7 @@ from mobman import kinematics as K
 from mobman.errors import InputError
 from mobman.model import robots
 from mobman.model.tasks import EulerAngles, Pose, Position
+from mobman.redundancy import sample_configurations
 from mobman.studies.placement import candidate_bases, place, reach_radius
 
 L1 = L2 = 0.5
@@ -114,6 +115,15 @@ def test_a_full_pose_is_reached_from_the_base_it_was_taken_at():
     pose = np.asarray(K.forward(robot, result.q[1]))
     np.testing.assert_allclose(pose[:3], target[:3], atol=1e-6)
     assert np.linalg.norm(np.asarray(robot.task.error(target, pose))) <= 1e-6
+
+
+def test_tiago_s_reach_covers_every_posture_and_stays_below_its_offsets():
+    robot = robots.build("tiago")
+    q = sample_configurations(robot, 20_000, seed=7)
+    q[:, :3] = 0.0
+    tool = np.asarray(K.forward(robot, q, Position("xy")))
+    radius = reach_radius(robot)
+    assert np.linalg.norm(tool, axis=1).max() <= radius <= 1.5  # the sum of TIAGo's offsets is 2.26 m
 
 
 def test_the_default_radii_run_from_zero_to_the_arm_s_reach():

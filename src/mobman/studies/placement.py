@@ -36,7 +36,7 @@ from mobman.engine.batched import batched
 from mobman.errors import InputError
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
-from mobman.model.tasks import Task
+from mobman.model.tasks import Position, Task
 from mobman.redundancy import sample_configurations
 
 DAMPING = 1e-3
@@ -48,6 +48,13 @@ MAX_STEP = 0.5
 J_a describes the motion."""
 
 LEVELS = ("arm", "system")
+
+REACH_SAMPLES = 4096
+"""Random postures :func:`reach_radius` measures the arm's reach on."""
+
+REACH_MARGIN = 1.25
+"""Factor on the largest sampled reach: the postures at the corners of the joint limits, such as a telescoping
+arm fully out, are rare among random ones (Stretch: 0.84 m over 4,096 postures, 0.88 m over 20,000)."""
 
 
 @dataclass(frozen=True)
@@ -98,9 +105,14 @@ class Placement:
 
 
 def reach_radius(robot: MobileManipulator, arm: int = 0) -> float:
-    """An upper bound of the distance from the platform's reference point to what arm ``arm`` reaches: the
-    mount's offset, every joint origin's offset, the prismatic joints' largest travel and the tool's offset,
-    added up."""
+    """How far from the platform's reference point arm ``arm``'s tool reaches, horizontally: the largest
+    distance over :data:`REACH_SAMPLES` seeded postures within the joint limits
+    (:func:`mobman.redundancy.sample_configurations`) times :data:`REACH_MARGIN`, and at most the sum of the
+    mount's offset, every joint origin's offset, the prismatic joints' largest travel and the tool's offset
+    (a bound that counts vertical offsets as reach too)."""
+    q = sample_configurations(robot, REACH_SAMPLES, seed=0)
+    q[:, : robot.n_platform] = 0.0
+    tool = np.asarray(K.forward(robot, q, Position("xy", arm=arm)))
     mount = np.linalg.norm(spatial.fixed_pose(robot.mounts[arm].transform)[1])
     chain = robot.arms[arm]
     offsets = sum(float(np.linalg.norm(spatial.fixed_pose(j.origin)[1])) for j in chain.joints)
@@ -109,7 +121,8 @@ def reach_radius(robot: MobileManipulator, arm: int = 0) -> float:
         for j in chain.joints
         if j.kind == "prismatic" and math.isfinite(j.lower)
     )
-    return float(mount + offsets + travel + np.linalg.norm(spatial.fixed_pose(chain.tool)[1]))
+    bound = mount + offsets + travel + np.linalg.norm(spatial.fixed_pose(chain.tool)[1])
+    return float(min(REACH_MARGIN * np.linalg.norm(tool, axis=1).max(), bound))
 
 
 def candidate_bases(centre: npt.ArrayLike, radii: npt.ArrayLike, bearings: int, headings: int) -> np.ndarray:
@@ -259,4 +272,14 @@ def _centre(task: Task, target: np.ndarray) -> np.ndarray:
     )
 
 
-__all__ = ["DAMPING", "LEVELS", "MAX_STEP", "Placement", "candidate_bases", "place", "reach_radius"]
+__all__ = [
+    "DAMPING",
+    "LEVELS",
+    "MAX_STEP",
+    "Placement",
+    "candidate_bases",
+    "place",
+    "reach_radius",
+    "REACH_MARGIN",
+    "REACH_SAMPLES",
+]
