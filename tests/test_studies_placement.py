@@ -164,3 +164,13 @@ def test_a_task_without_x_and_y_needs_a_centre():
     robot = robots.build("tiago").with_task(EulerAngles("ZYX"))
     with pytest.raises(InputError, match=r"centre: the task's coordinates \(.*\) do not start with x and y"):
         place(robot, [0.0, 0.0, 0.0])
+
+
+def test_a_task_singular_at_every_posture_reaches_nothing_and_says_so():
+    # a horizontal arm's tool z axis is vertical at every posture: ZYZ Euler angles are in gimbal lock, J is
+    # undefined, and every base reports an infinite error instead of failing or ranking NaN
+    robot = robots.build("bayle-planar").with_task(EulerAngles("ZYZ"))
+    result = place(robot, [0.1, 0.0, 0.2], centre=[0.0, 0.0], radii=[0.5], bearings=2, headings=1, starts=2)
+    assert np.all(result.error == np.inf) and not result.reached.any() and result.best is None
+    np.testing.assert_array_equal(result.score, 0.0)
+    assert len(result.ranking()) == 0

@@ -62,9 +62,9 @@ class Placement:
     """Candidate platform poses and what the arm reaches from each.
 
     ``bases`` (N, 3): the platform poses (x, y, θ); ``q`` (N, n_q): the best posture found from each (the
-    platform's further coordinates, such as a steering angle, at 0); ``error`` (N,): the norm of the task's
-    error there; ``reached`` (N,): error ≤ tolerance; ``score`` (N,): the measure at the posture where reached,
-    0 where not. ``best``: the index of the reached base with the highest score, None when no base reaches
+    platform's further coordinates, such as a steering angle, at 0; NaN where J was undefined from every
+    start); ``error`` (N,): the norm of the task's error there (inf for those); ``reached`` (N,): error ≤
+    tolerance; ``score`` (N,): the measure at the posture where reached, 0 where not. ``best``: the index of the reached base with the highest score, None when no base reaches
     the target. ``n_platform``: the platform's coordinates at the start of each row of ``q``.
     """
 
@@ -224,14 +224,16 @@ def place(
     rows = np.arange(bases.shape[0])
     q, error = np.asarray(q)[rows, pick], error[rows, pick]
     reached = error <= tolerance
-    scores = np.asarray(mp.jacobian_and_measures(robot, q, level, task)[1][measure])
+    score = np.zeros(bases.shape[0])
+    if reached.any():
+        score[reached] = np.asarray(mp.jacobian_and_measures(robot, q[reached], level, task)[1][measure])
     return Placement(
         target=np.asarray(target),
         bases=bases,
         q=q,
         error=error,
         reached=reached,
-        score=np.where(reached, scores, 0.0),
+        score=score,
         measure=measure,
         level=level,
         tolerance=float(tolerance),
