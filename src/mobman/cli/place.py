@@ -17,6 +17,7 @@ from rich.table import Table
 
 from mobman.cli.app import app
 from mobman.cli.common import UrdfOption, load_robot, not_reached, urdf_options
+from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
 from mobman.manipulability import MEASURES
@@ -68,7 +69,7 @@ def place_command(
 ) -> None:
     """Find platform poses from which the arm reaches --target, ranked by manipulability."""
     if top < 1:
-        raise typer.BadParameter(f"must be ≥ 1, got {top}", param_hint="--top")
+        raise InputError(f"--top must be ≥ 1, got {top}")
     robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
     result = place(
         robot,
