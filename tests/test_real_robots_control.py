@@ -6,15 +6,15 @@ docs/pose_tasks.md, and the joint-limit report against a NumPy count with the li
 file itself (ElementTree, not mobman's reader)."""
 
 import tomllib
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mobman.control import metrics, simulate, spec
-from mobman.io.real_robots import REAL_ROBOTS
+from mobman.control import metrics, spec
+
+from tiago_urdf import joint_limits
 
 SPEC = Path(__file__).resolve().parents[1] / "docs" / "examples" / "tiago_pose.toml"
 
@@ -22,23 +22,8 @@ SPEC = Path(__file__).resolve().parents[1] / "docs" / "examples" / "tiago_pose.t
 @pytest.fixture(scope="module")
 def run():
     parsed = spec.load(SPEC)
-    result = simulate(
-        parsed.robot,
-        parsed.task,
-        parsed.law,
-        parsed.reference,
-        parsed.q0,
-        parsed.duration,
-        parsed.dt,
-        integrator=parsed.integrator,
-    )
+    result = parsed.simulate()
     return parsed, result, metrics.summarize(result, parsed.robot)
-
-
-def _urdf_limits(names):
-    """(lower, upper) of each named joint, from the <limit> elements of TIAGo's URDF file."""
-    joints = {j.get("name"): j for j in ET.parse(REAL_ROBOTS["tiago"].path()).getroot().findall("joint")}
-    return np.array([[float(joints[n].find("limit").get(k)) for k in ("lower", "upper")] for n in names])
 
 
 def _outside(q, limits):
@@ -97,7 +82,7 @@ def test_platform_torso_and_arm_all_move(run):
 def test_joint_limit_report_matches_the_urdf(run):
     parsed, result, summary = run
     names = parsed.robot.coordinate_names[3:]
-    limits = _urdf_limits(names)
+    limits = joint_limits(names)
     count, excess = _outside(result.q[:, 3:], limits)
     assert summary["joint_limit_violations"] == count
     assert summary["joint_limit_worst"] == pytest.approx(excess.max(), abs=1e-12)

@@ -235,7 +235,6 @@ def _motion(
     data: dict, robot: MobileManipulator, max_steps: int, base: Path | None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
     """(t, q, η, description) of the motion table."""
-    from mobman.control import simulate
 
     table = fields.table(data, "motion", "motion")
     kind = table.get("kind")
@@ -268,16 +267,7 @@ def _motion(
             raise InputError(f"motion.control: {exc}") from None
         steps = int(round(spec.duration / spec.dt)) + 1
         check_steps(steps, 3 * (robot.n_q + robot.n_eta), "motion.control: duration / dt", max_steps)
-        run = simulate(
-            spec.robot,
-            spec.task,
-            spec.law,
-            spec.reference,
-            spec.q0,
-            spec.duration,
-            spec.dt,
-            integrator=spec.integrator,
-        )
+        run = spec.simulate()
         return run.t, run.q, run.eta, f"control simulation, {spec.duration} s, dt = {spec.dt} s"
     raise InputError(f"motion.kind: {kind!r} not one of korayem, control")
 

@@ -16,7 +16,7 @@ import contextlib
 import math
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import typer
@@ -71,26 +71,9 @@ def _progress(show: bool) -> Iterator[Callable[[float], None] | None]:
         yield lambda f: progress.update(bar, completed=f)
 
 
-def _arguments(spec: Spec) -> dict[str, Any]:
-    """The keyword arguments of :func:`mobman.control.simulate` that a spec sets."""
-    return {
-        "robot": spec.robot,
-        "task": spec.task,
-        "law": spec.law,
-        "reference": spec.reference,
-        "q0": spec.q0,
-        "duration": spec.duration,
-        "dt": spec.dt,
-        "measures": spec.measures,
-        "integrator": spec.integrator,
-    }
-
-
 def _run(spec: Spec, quiet: bool) -> SimulationResult:
-    from mobman.control import simulate
-
     with _progress(not quiet and _steps(spec) > PROGRESS_STEPS) as progress:
-        return simulate(**_arguments(spec), progress=progress)
+        return spec.simulate(progress)
 
 
 def _series(result: SimulationResult) -> dict:
@@ -126,7 +109,7 @@ def stream(
     files: dict[str, np.memmap] = {}
     piece, k0 = None, 0
     with _progress(not quiet) as progress:
-        for piece in simulate_pieces(**_arguments(spec), chunk=chunk):
+        for piece in simulate_pieces(**spec.arguments(), chunk=chunk):
             summary.add(piece)
             if folder is not None:
                 for name, values in _files(_series(piece)).items():

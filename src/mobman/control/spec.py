@@ -53,11 +53,12 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, Callable
 
 import numpy as np
 
 from mobman.control import criteria, laws, references
-from mobman.control.simulation import INTEGRATORS, parse_measure_names
+from mobman.control.simulation import INTEGRATORS, SimulationResult, parse_measure_names, simulate
 from mobman.errors import InputError, MobmanError
 from mobman.io import robot_file, tasks
 from mobman.io import spec as fields
@@ -94,6 +95,15 @@ class Spec:
     dt: float
     measures: tuple[str, ...]
     integrator: str
+
+    def arguments(self) -> dict[str, Any]:
+        """The keyword arguments of :func:`mobman.control.simulate` (and ``simulate_pieces``) it sets."""
+        names = ("robot", "task", "law", "reference", "q0", "duration", "dt", "measures", "integrator")
+        return {name: getattr(self, name) for name in names}
+
+    def simulate(self, progress: Callable[[float], None] | None = None) -> SimulationResult:
+        """The run it describes: :func:`mobman.control.simulate` with its fields."""
+        return simulate(**self.arguments(), progress=progress)
 
 
 def _reference(data: dict) -> references.Reference:
