@@ -8,8 +8,13 @@
 - ``ee_path_length`` (tool position of the first arm) and ``platform_path_length`` (x, y), in m;
 - joint limits: ``joint_limit_violations`` = the number of samples where a coordinate is outside its position
   limits, ``joint_limit_worst`` = the largest excess over a limit (rad or m; 0 when none) and
-  ``joint_limit_worst_joint`` its coordinate's name (None when none): the laws do not enforce the limits, so
-  a run reports them;
+  ``joint_limit_worst_joint`` its coordinate's name (None when none): only the QP law
+  (:class:`~mobman.control.laws.WholeBodyQP`) enforces the limits, so a run reports them;
+- velocity limits: ``velocity_limit_ratio`` = the largest |η_i| / η_i,max over the samples (None without
+  velocity limits) and ``wheel_speed_ratio`` = the largest |u_j| / u_j,max of the driven wheels' speeds
+  u = T⁻¹ η_p (None for a platform without per-wheel limits): above 1, the commanded η leaves the limits;
+- the law's flags: for every boolean entry of the recorded ``info`` (``speed_limited``, ``joint_limited`` of
+  :class:`~mobman.control.laws.WholeBodyQP`), ``<name>_steps`` = the number of samples where it holds;
 - ``control_effort`` = ∫ ‖η‖² dt (rectangle rule);
 - ``acceleration_variation`` = Σ_k ‖η̇_{k+1} − η̇_k‖ with η̇ by finite differences: the total variation of the
   quasi-accelerations, large when the platform jerks or manoeuvres.
@@ -60,6 +65,15 @@ def _excess(limits: np.ndarray, q: npt.ArrayLike) -> np.ndarray:
     return np.maximum(limits[:, 0] - q, 0.0) + np.maximum(q - limits[:, 1], 0.0)
 
 
+def _speed_limits(robot: MobileManipulator) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The robot's velocity limits (n_eta) and its driven wheels' speed limits, each None where not given."""
+    velocity, wheels = robot.velocity_limits, robot.platform.actuator_speed_limits
+    return (
+        None if velocity is None else np.asarray(velocity, dtype=float),
+        None if wheels is None else np.asarray(wheels, dtype=float),
+    )
+
+
 def joint_limit_violations(robot: MobileManipulator, q: npt.ArrayLike) -> dict:
     """How a path of configurations q (N × n_q) leaves the robot's joint position limits: the number of
     samples outside, the worst excess (rad or m) and the name of its coordinate (see the module docstring)."""
@@ -100,6 +114,8 @@ class RunningSummary:
         self._saturated, self._damped, self._outside = 0, 0, 0
         self._worst = np.zeros(len(self._limits))
         self._measures: dict[str, list[float]] = {}
+        self._flags: dict[str, int] = {}
+        self._ratios = [0.0, 0.0]  # the largest velocity and wheel-speed ratios
 
     def add(self, piece: SimulationResult) -> None:
         """Feed the next samples: a :class:`~mobman.control.simulation.SimulationResult` of one run."""
@@ -149,6 +165,17 @@ class RunningSummary:
         excess = _excess(self._limits, piece.q)
         self._outside += int(np.count_nonzero(np.any(excess > 0.0, axis=-1)))
         self._worst = np.maximum(self._worst, np.max(excess, axis=0))
+        for name, values in piece.info.items():
+            if np.asarray(values).dtype == bool:
+                self._flags[name] = self._flags.get(name, 0) + int(np.count_nonzero(values))
+        velocity, wheels = _speed_limits(self.robot)
+        if velocity is not None:
+            self._ratios[0] = max(self._ratios[0], float(np.max(np.abs(piece.eta) / velocity)))
+        if wheels is not None:
+            speeds = np.asarray(
+                self.robot.platform.eta_to_wheel_speeds(piece.eta[:, : self.robot.platform.n_eta])
+            )
+            self._ratios[1] = max(self._ratios[1], float(np.max(np.abs(speeds) / wheels)))
         for name, values in piece.measures.items():
             low, high = float(np.min(values)), float(np.max(values))
             seen = self._measures.get(name, [low, high])
@@ -181,6 +208,11 @@ class RunningSummary:
             if self._worst[joint] > 0.0
             else None,
         }
+        velocity, wheels = _speed_limits(self.robot)
+        out["velocity_limit_ratio"] = None if velocity is None else self._ratios[0]
+        out["wheel_speed_ratio"] = None if wheels is None else self._ratios[1]
+        for name, count in self._flags.items():
+            out[f"{name}_steps"] = count
         for name, (low, high, final) in self._measures.items():
             out[f"{name}_min"], out[f"{name}_max"], out[f"{name}_final"] = low, high, final
         return out
