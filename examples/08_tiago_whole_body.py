@@ -3,8 +3,9 @@
 The spec docs/examples/tiago_pose.toml (the same as `mobman simulate docs/examples/tiago_pose.toml`): Bayle's
 law η = J̄⁺(ξ̇* + W e) − k Hᵀ∇P (Bayle, Fourquet & Renaud 2003, eq. 5–6) with the pose error
 e = (p* − p, log(R* Rᵀ)) and P the eccentricity w5 of the whole system's J̄. The path, a line of 0.42 m and a
-slerp through 0.92 rad, starts off the hand; the error norm decays as exp(−W t). The laws do not enforce joint
-limits: the run reports how it leaves them, and how close each joint comes.
+slerp through 0.92 rad, starts off the hand; the error norm decays as exp(−W t). Bayle's law does not enforce
+joint limits: the run reports how it leaves them, and how close each joint comes (the QP law keeps them:
+examples/10_whole_body_within_limits.py).
 
     python examples/08_tiago_whole_body.py
 """

@@ -220,3 +220,33 @@ def test_an_interrupted_long_run_leaves_the_old_results(tmp_path, capsys, monkey
     assert exc.value.code == 130 and len(calls) == 2
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run", "spec.toml"]
+
+
+QP = SHORT.replace('kind = "bayle"', 'kind = "qp"\nlimit_gain = 4.0')
+
+
+def test_qp_law_spec_reports_its_limit_flags(tmp_path, capsys):
+    main(["simulate", str(_spec(tmp_path, QP)), "--json"])
+    metrics = json.loads(capsys.readouterr().out)
+    assert metrics["max_error"] < 1e-3 and metrics["velocity_limit_ratio"] <= 1 + 1e-9
+    assert {"joint_limited_steps", "speed_limited_steps"} <= set(metrics)
+    assert metrics["wheel_speed_ratio"] is None  # bayle-planar gives (v, ω) limits, not per-wheel ones
+
+
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ("limit_gain = 4.0", "limit_gain = -4.0", "limit_gain must be a finite number > 0"),
+        ("limit_gain = 4.0", "regularization = 0.0", "regularization must be a finite number ≥ 1e-7"),
+        ("limit_gain = 4.0", "iterations = 0", "iterations must be an integer in 1..1000"),
+        ("limit_gain = 4.0", "iterations = 2.5", "law.iterations: must be an integer"),
+        ("limit_gain = 4.0", "saturate = true", "saturate does not apply"),
+    ],
+)
+def test_invalid_qp_law_is_one_line_exit_2(tmp_path, capsys, old, new, message):
+    path = _spec(tmp_path, QP.replace(old, new))
+    with pytest.raises(SystemExit) as exc:
+        main(["simulate", str(path)])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err

@@ -1,5 +1,6 @@
 """Operational motion control of mobile manipulators: references ξ*(t), criteria P(q), control laws with
-redundancy resolution (Bayle eq. 5–7, Nait-Chabane eq. 30, Korayem eq. 30), closed-loop simulation and metrics.
+redundancy resolution (Bayle eq. 5–7, Nait-Chabane eq. 30, Korayem eq. 30, and Bayle's law as a quadratic
+program within the velocity, wheel-speed and joint limits), closed-loop simulation and metrics.
 
 ```python
 from mobman.control import references, criteria, laws, simulate, metrics
@@ -23,10 +24,13 @@ Notes for code written against ``docs/control_api`` (the contract):
 - ``simulate_pieces(...)``: the same run as consecutive pieces of ``chunk`` samples, one in memory at a time;
   ``metrics.RunningSummary`` takes them one after the other and gives ``summarize``'s metrics.
 - ``result.info``: ``damping`` (λ²), ``sigma_min``, ``limit_ratio``, ``P`` (with a criterion), ``det``
-  (AugmentedJacobian: |det [G; J; J_z]|), ``q_mid`` (lie integrator).
+  (AugmentedJacobian: |det [G; J; J_z]|), ``speed_limited``, ``joint_limited``, ``residual`` (WholeBodyQP),
+  ``q_mid`` (lie integrator).
 - ``metrics.summarize`` returns also ``final_error``, ``saturated_steps``, ``damped_steps``, the joint-limit
-  report (``joint_limit_violations``, ``joint_limit_worst``, ``joint_limit_worst_joint``) and, per recorded
-  measure NAME, ``NAME_min``, ``NAME_max``, ``NAME_final``; ``metrics.first_significant(v, threshold)``.
+  report (``joint_limit_violations``, ``joint_limit_worst``, ``joint_limit_worst_joint``), the largest
+  velocity and wheel-speed ratios (``velocity_limit_ratio``, ``wheel_speed_ratio``), ``NAME_steps`` per
+  boolean info entry and, per recorded measure NAME, ``NAME_min``, ``NAME_max``, ``NAME_final``;
+  ``metrics.first_significant(v, threshold)``.
 """
 
 from mobman.control import criteria, laws, metrics, references
