@@ -85,6 +85,15 @@ def test_the_spectrum_is_scaled_so_tiny_and_huge_matrices_neither_underflow_nor_
     np.testing.assert_allclose(np.asarray(low) / scale, want[:, 0], atol=1e-13 * np.abs(want).max())
 
 
+@pytest.mark.parametrize("coupling", [1e-300, 1e-150, 1e-96, 1e-40, 1e-9])
+def test_an_eigenvalue_split_off_by_a_tiny_coupling_stays_finite(coupling):
+    """An eigenvalue separated from the rest by off-diagonal entries of 1e-96 (a heading of 7.7e-96 rad in a
+    Gram matrix J̄ J̄ᵀ): Laguerre's iterate comes within ~1e-190 of it, where p′/p would overflow."""
+    a = np.tile(np.array([[1.0, 0.0, 0.0], [0.0, 23.3, 36.8], [0.0, 36.8, 63.8]]), (4, 1, 1))
+    a[3, 0, 1:] = a[3, 1:, 0] = coupling
+    _assert_matches_lapack(a, *extremes.extremes(jnp.asarray(a)))
+
+
 def test_zero_and_non_finite_matrices():
     a = np.zeros((3, 6, 6))
     a[1] = np.eye(6)

@@ -98,8 +98,10 @@ def _minors(d: list, e2: list, x: jnp.ndarray) -> list[jnp.ndarray]:
 
 
 def _laguerre_step(d: list, e2: list, x: jnp.ndarray) -> jnp.ndarray:
-    """Laguerre's step −n / (G ± √((n − 1)(n H − G²))) on p(x) = det(T − x I) (0 where p(x) = 0: x is
-    an eigenvalue)."""
+    """Laguerre's step −n / (G ± √((n − 1)(n H − G²))), G = p′/p, H = G² − p″/p, on p(x) = det(T − x I),
+    written as −n p / (p′ ± √((n − 1)((n − 1) p′² − n p p″))) (numerator and denominator times p): near a
+    root p is tiny and G = p′/p would overflow, the product form stays finite (0 where p(x) = 0: x is an
+    eigenvalue)."""
     n = len(d)
     p0, p1 = jnp.ones_like(x), d[0] - x
     dp0, dp1 = jnp.zeros_like(x), -jnp.ones_like(x)
@@ -114,14 +116,10 @@ def _laguerre_step(d: list, e2: list, x: jnp.ndarray) -> jnp.ndarray:
             ddp1,
             shifted * ddp1 - 2.0 * dp1 - ek * ddp0,
         )
-    root = p1 != 0
-    safe = jnp.where(root, p1, 1.0)
-    g = dp1 / safe
-    h = g * g - ddp1 / safe
-    spread = jnp.sqrt(jnp.maximum((n - 1) * (n * h - g * g), 0.0))
-    den = g + jnp.where(g >= 0, spread, -spread)  # the sign that makes |den| largest: the nearer root
-    ok = root & (den != 0)
-    return jnp.where(ok, -n / jnp.where(ok, den, 1.0), 0.0)
+    spread = jnp.sqrt(jnp.maximum((n - 1) * ((n - 1) * dp1 * dp1 - n * p1 * ddp1), 0.0))
+    den = dp1 + jnp.where(dp1 >= 0, spread, -spread)  # the sign that makes |den| largest: the nearer root
+    ok = den != 0
+    return jnp.where(ok, -n * p1 / jnp.where(ok, den, 1.0), 0.0)
 
 
 def _laguerre(a: jnp.ndarray) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray, jnp.ndarray]:
