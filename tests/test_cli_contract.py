@@ -206,7 +206,7 @@ def test_unexpected_failure_exits_1_with_one_line_asking_for_a_report(tmp_path, 
     def broken(*args, **kwargs):
         raise RuntimeError("something\nunforeseen")
 
-    monkeypatch.setattr("mobman.control.simulate", broken)
+    monkeypatch.setattr("mobman.control.spec.Spec.simulate", broken)
     code, _, err = run(["simulate", str(tmp_path / "spec.toml")], capsys)
     line = one_line(err)
     assert code == 1 and "mobman simulate" in line and "please report" in line and "unforeseen" in line
