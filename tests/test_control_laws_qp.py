@@ -91,6 +91,22 @@ def test_tiago_s_eta_is_the_optimum_an_independent_solver_finds():
     assert 10 < sum(limited) < 60  # both free and limited programs were drawn
 
 
+def test_stretched_and_folded_arms_and_the_zero_posture():
+    stretched = np.zeros(TIAGO.n_q)
+    stretched[[3, 4]] = [0.1, 0.5]  # the torso and arm_1 off their lower limits, every other joint at 0
+    folded = stretched.copy()
+    folded[[5, 7]] = [-1.5, 2.3]  # arm_2 down, the elbow (arm_4) bent near its upper limit
+    law = laws.WholeBodyQP(W=2.0)
+    step = jax.jit(lambda q, xs, xsd: law(TIAGO, None, q, 0.0, xs, xsd))
+    rng = np.random.default_rng(5)
+    for q in (stretched, folded, np.zeros(TIAGO.n_q)):  # the zero posture: torso and arm_1 at their limits
+        xi = np.asarray(kinematics.forward(TIAGO, q))
+        for speed in (0.05, 2.0):  # m/s: free, and beyond the limits
+            xsd = rng.normal(size=3) * speed
+            got = step(q, xi, xsd)
+            np.testing.assert_allclose(np.asarray(got.eta), reference_eta(q, xsd, 1e-4, 5.0), atol=1e-10)
+
+
 def test_the_self_motion_and_the_normalisation_enter_as_in_bayle_s_law():
     rng = np.random.default_rng(8)
     law = laws.WholeBodyQP(W=1.5, k=0.8, criterion=W5, normalized=True, regularization=1e-3, limit_gain=3.0)
