@@ -32,7 +32,7 @@ def test_two_arms_and_mount_offsets():
     )
     q = np.array([1.0, 2.0, 0.0, 0.0, 0.0])
     np.testing.assert_allclose(K.forward(robot, q), [2.5, 2.0, 0.0, 1.0, 3.3, 0.2], atol=1e-14)
-    assert robot.coordinate_names == ("x", "y", "theta", "arm1.q1", "arm2.q1")
+    assert robot.coordinate_names == ("x", "y", "theta", "arm1.q1", "arm2.q1")  # two copies: prefixed
 
 
 def test_models_are_hashable_and_equal_by_value():

@@ -151,13 +151,18 @@ class MobileManipulator:
 
     @property
     def coordinate_names(self) -> tuple[str, ...]:
+        """The names of q: the platform's, then each arm's joints. Several arms whose joint names collide (two
+        copies of one arm) have theirs prefixed by the arm's name (or ``arm1``, ``arm2``, … when those collide
+        too); joint names that are unique across the arms, as a URDF's, stay as they are."""
         names = list(self.platform.coordinate_names)
+        joints = [n for arm in self.arms for n in arm.coordinate_names]
+        if len(set(joints)) == len(joints):
+            return tuple(names + joints)
         labels = [a.name for a in self.arms]
         if len(set(labels)) != len(labels):
             labels = [f"arm{i + 1}" for i in range(len(self.arms))]
         for label, arm in zip(labels, self.arms):
-            prefix = "" if len(self.arms) == 1 else f"{label}."
-            names += [prefix + n for n in arm.coordinate_names]
+            names += [f"{label}.{n}" for n in arm.coordinate_names]
         return tuple(names)
 
     @property
