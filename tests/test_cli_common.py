@@ -249,6 +249,22 @@ def test_load_robot_of_a_missing_file_is_a_clear_error(tmp_path):
     _one_line(info, "absent.toml")
 
 
+@pytest.mark.parametrize("suffix", [".urdf.xacro", ".xacro", ".URDF.XACRO"])
+def test_load_robot_of_a_xacro_file_says_how_to_expand_it(tmp_path, suffix):
+    path = tmp_path / f"robot{suffix}"
+    path.write_text("<robot xmlns:xacro='http://www.ros.org/wiki/xacro' name='r'/>")
+    with pytest.raises(InputError) as info:
+        common.load_robot(str(path))
+    _one_line(info, str(path), "xacro file", "expand it to URDF first: xacro")
+
+
+@pytest.mark.parametrize("name", ["/etc/hostname", "robots/tiago"])
+def test_load_robot_of_a_file_that_is_no_robot_file_names_the_endings(name):
+    with pytest.raises(InputError) as info:
+        common.load_robot(name)
+    _one_line(info, f"{name}: not a robot name", ".urdf", ".toml")
+
+
 # --- load_dynamics ---------------------------------------------------------------------------------
 
 

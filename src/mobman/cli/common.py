@@ -16,6 +16,7 @@ from mobman.cli.app import NOT_REACHED
 from mobman.errors import InputError
 from mobman.io.numbers import parse_number, parse_vector
 from mobman.io.spec import read_text
+from mobman.io.urdf import is_urdf_path
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import build, command_name
 
@@ -176,7 +177,7 @@ def load_robot(name: str, params: list[str] | None = None, urdf: dict | None = N
     """A built-in robot by name with --param overrides, a robot description file (a path ending in .toml), or
     a URDF file (a path ending in .urdf, read by :func:`mobman.io.urdf.load_urdf` with the ``urdf`` options,
     :func:`urdf_options`)."""
-    if name.endswith(".urdf"):
+    if is_urdf_path(name):
         from mobman.io.urdf import load_urdf
 
         if params:
@@ -192,6 +193,10 @@ def load_robot(name: str, params: list[str] | None = None, urdf: dict | None = N
         if params:
             raise InputError("--param applies to built-in robots; edit the robot file instead")
         return robot_file.load(name)
+    if os.sep in name or Path(name).is_file():
+        raise InputError(
+            f"{name}: not a robot name; a robot file ends in .urdf (a URDF) or .toml (a robot description)"
+        )
     return build(name, **parse_params(params))
 
 
@@ -208,11 +213,10 @@ def load_dynamics(
     from mobman.dynamics import DynamicModel, yamamoto_platform
     from mobman.errors import ModelError
     from mobman.io.real_robots import REAL_ROBOTS, urdf_model
+    from mobman.io.urdf import read_urdf
 
     key = command_name(name)
-    if name.endswith(".urdf") or key in REAL_ROBOTS:
-        from mobman.io.urdf import read_urdf
-
+    if is_urdf_path(name) or key in REAL_ROBOTS:
         try:
             model = urdf_model(key) if key in REAL_ROBOTS else read_urdf(name, **(urdf or {}))
             return DynamicModel.from_urdf(model), model.torque_limits()

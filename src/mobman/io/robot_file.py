@@ -53,6 +53,7 @@ from typing import TYPE_CHECKING
 
 from mobman.errors import InputError
 from mobman.io import spec as fields
+from mobman.io.urdf import is_urdf_path
 from mobman.model import robots
 from mobman.model.arm import Arm
 from mobman.model.platforms import Platform, platform_class, platform_kinds
@@ -201,7 +202,7 @@ def _path(entry: dict, base: Path | None) -> Path:
 
 def _urdf_file(entry: dict, base: Path | None) -> Path | None:
     """The path of the table's ``file`` when it names a URDF file."""
-    return _path(entry, base) if str(entry.get("file", "")).endswith(".urdf") else None
+    return _path(entry, base) if is_urdf_path(entry.get("file", "")) else None
 
 
 def _names(value: object, field: str) -> tuple[str, ...]:

@@ -162,12 +162,22 @@ class UrdfModel:
 
 # --- reading ---------------------------------------------------------------------------------------
 
+URDF_SUFFIXES = (".urdf", ".xacro")
+"""The file name endings that mark a robot description as URDF (a xacro file is refused with the command
+that expands it)."""
+
+
+def is_urdf_path(name: str | os.PathLike[str]) -> bool:
+    """Whether ``name`` names a URDF (or xacro) file by its ending (:data:`URDF_SUFFIXES`), as the command
+    line and robot files tell a URDF path from a robot's name."""
+    return str(name).lower().endswith(URDF_SUFFIXES)
+
 
 def _parse(path: str | os.PathLike[str]) -> tuple[Any, Path]:
     import yourdfpy
 
     file = Path(path)
-    if file.suffix == ".xacro":
+    if file.suffix.lower() == ".xacro":
         target = file.stem if file.stem.endswith(".urdf") else file.stem + ".urdf"
         raise InputError(
             f"{file}: a xacro file; expand it to URDF first: xacro {file.name} > {target} "
