@@ -33,6 +33,17 @@ def _entry(result: Placement, k: int) -> dict[str, Any]:
     }
 
 
+OPTIONS = ("radii", "bearings", "headings", "starts", "iterations", "tolerance", "measure", "level")
+"""The keyword arguments of :func:`mobman.studies.placement.place` that are options of the command."""
+
+
+def _as_option(message: str) -> str:
+    """``place``'s message about a keyword argument (``"bearings must be …"``) as one about its option
+    (``"--bearings must be …"``)."""
+    keyword = message.split(" ", 1)[0]
+    return f"--{message}" if keyword in OPTIONS else message
+
+
 @app.command("place")
 def place_command(
     robot_name: str = typer.Argument(
@@ -71,19 +82,22 @@ def place_command(
     if top < 1:
         raise InputError(f"--top must be ≥ 1, got {top}")
     robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
-    result = place(
-        robot,
-        parse_vector(target, "--target", robot.task.dim),
-        centre=None if centre is None else parse_vector(centre, "--centre", 2),
-        radii=None if radii is None else parse_vector(radii, "--radii"),
-        bearings=bearings,
-        headings=headings,
-        starts=starts,
-        iterations=iterations,
-        tolerance=tolerance,
-        measure=measure,
-        level=level,
-    )
+    try:
+        result = place(
+            robot,
+            parse_vector(target, "--target", robot.task.dim),
+            centre=None if centre is None else parse_vector(centre, "--centre", 2),
+            radii=None if radii is None else parse_vector(radii, "--radii"),
+            bearings=bearings,
+            headings=headings,
+            starts=starts,
+            iterations=iterations,
+            tolerance=tolerance,
+            measure=measure,
+            level=level,
+        )
+    except InputError as exc:
+        raise InputError(_as_option(str(exc))) from None
     ranking = [_entry(result, int(k)) for k in result.ranking(top)]
     report = {
         "robot": robot_name,

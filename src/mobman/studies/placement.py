@@ -257,9 +257,10 @@ def _distances(radii: npt.ArrayLike) -> np.ndarray:
     try:
         arr = np.asarray(radii, dtype=float)
     except (TypeError, ValueError):
-        arr = np.array([np.nan])
+        raise InputError(f"radii must be one or more finite distances ≥ 0 (m), got {radii!r}") from None
     if arr.ndim != 1 or arr.size == 0 or not np.all(np.isfinite(arr)) or np.any(arr < 0):
-        raise InputError(f"radii must be one or more finite distances ≥ 0, got {radii!r}")
+        shown = ", ".join(f"{r:g}" for r in arr.ravel()) or "none"
+        raise InputError(f"radii must be one or more finite distances ≥ 0 (m), got {shown}")
     return arr
 
 
