@@ -123,6 +123,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.smoke:
         args.n, args.n_dynamics, args.single = 1_000, 200, 30
+    if max(args.n_dynamics, args.single) > args.n:  # both are drawn from the --n configurations
+        parser.error(f"--n-dynamics and --single must be at most --n ({args.n})")
     urdf = urdf_model("tiago")
     robot = urdf.robot.with_task(stack(Position("xyz"), EulerAngles("ZYX")))
     model = dyn.DynamicModel.from_urdf(urdf)

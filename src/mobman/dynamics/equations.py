@@ -198,7 +198,8 @@ def _tree(
             jnp.where(revolute, spatial.cross(ps[: arm.n_joints] - origin, axes), axes),
         )
         chains.append(recursive.Chain(columns, chain))
-    return root, chains
+    # read by the mass matrix and the bias alike, and within each by every joint: computed once
+    return jax.tree.map(spatial.shared, (root, chains))
 
 
 def _world_inertia_columns(parts: list[Body]) -> tuple[jnp.ndarray, jnp.ndarray, jnp.ndarray]:

@@ -76,7 +76,8 @@ class RigidInertia(NamedTuple):
             column + mass[:, None] * (square[:, None] * unit[k] - com * c[k][:, None])
             for k, column in enumerate(inertia)
         )
-        return cls(mass, mass[:, None] * com, rotational)
+        # every composite inertia and every product with a motion reads these: computed once
+        return jax.tree.map(spatial.shared, cls(mass, mass[:, None] * com, rotational))
 
     def apply(self, v: Motion) -> Force:
         """I v = (J ω + h × v_o, m v_o − h × ω): the momentum of bodies moving with v (row by row)."""
@@ -221,8 +222,8 @@ def inverse_dynamics(
 
 
 def _body_force(inertia: RigidInertia, v: Motion, a: Motion) -> Force:
-    """f = I a + v ×* I v (Featherstone eq. 5.9)."""
-    return Force(*(x + y for x, y in zip(inertia.apply(a), cross_force(v, inertia.apply(v)))))
+    """f = I a + v ×* I v (Featherstone eq. 5.9), computed once for the composite forces that read it."""
+    return Force(*(spatial.shared(x + y) for x, y in zip(inertia.apply(a), cross_force(v, inertia.apply(v)))))
 
 
 __all__ = [

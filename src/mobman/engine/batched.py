@@ -99,7 +99,7 @@ def batched(
             one = all(
                 i < len(args) and np.ndim(args[i]) == core_dims[i] and not traced(args[i]) for i in arrays
             )
-            return single(*args) if one and jax.default_backend() == "cpu" else compiled(*args)
+            return single(*args) if one and on_cpu() else compiled(*args)
 
         if validate is None:
 
@@ -118,6 +118,13 @@ def batched(
         return public
 
     return decorate
+
+
+@functools.cache
+def on_cpu() -> bool:
+    """Whether JAX's default backend is the CPU: fixed once JAX has started its backends, and asked once
+    (``jax.default_backend()`` costs about a microsecond, a few per cent of a one-configuration call)."""
+    return jax.default_backend() == "cpu"
 
 
 def sequential(fn: Callable, arrays: tuple[int, ...]) -> Callable:
@@ -184,7 +191,7 @@ def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1) -> Callable:
         size = math.prod(batch)
         flat = [jnp.broadcast_to(x, batch + c).reshape((size,) + c) for x, c in zip(arrays, cores)]
         kernel = jax.vmap(fn)
-        if size <= BLOCK or jax.default_backend() != "cpu":
+        if size <= BLOCK or not on_cpu():
             out = kernel(*flat)
         else:
             out = _in_blocks(kernel, flat, size)
@@ -285,7 +292,7 @@ def _share_plan(
         return None  # the product of the leading sizes bounds the broadcast batch's size
     shapes = {i: np.shape(args[i]) for i, _ in batched}
     leading = {i: shapes[i][: len(shapes[i]) - n] for i, n in batched}
-    if jax.default_backend() != "cpu" or any(isinstance(a, jax.core.Tracer) for a in args):
+    if not on_cpu() or any(isinstance(a, jax.core.Tracer) for a in args):
         return None
     try:
         batch = tuple(np.broadcast_shapes(*leading.values()))
