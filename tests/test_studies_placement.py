@@ -13,6 +13,8 @@ from mobman.model.tasks import EulerAngles, Pose, Position
 from mobman.redundancy import sample_configurations
 from mobman.studies.placement import candidate_bases, place, reach_radius
 
+from tiago_urdf import pinocchio_tool_positions
+
 L1 = L2 = 0.5
 
 
@@ -67,27 +69,6 @@ def test_the_ranking_lists_each_relative_placement_once():
     )
 
 
-def _pinocchio_tool_positions(robot, q: np.ndarray) -> np.ndarray:
-    pin = pytest.importorskip("pinocchio")
-    from mobman.io.real_robots import REAL_ROBOTS
-
-    full = pin.buildModelFromUrdf(str(REAL_ROBOTS["tiago"].path()), pin.JointModelPlanar())
-    keep = {j.name for arm in robot.arms for j in arm.joints}
-    locked = [i for i in range(2, full.njoints) if full.names[i] not in keep]
-    model = pin.buildReducedModel(full, locked, pin.neutral(full))
-    data = model.createData()
-    frame = model.getFrameId("arm_tool_link")
-    out = []
-    for qi in q:
-        q_pin = np.zeros(model.nq)
-        q_pin[:4] = qi[0], qi[1], np.cos(qi[2]), np.sin(qi[2])
-        for k, joint in enumerate(j for arm in robot.arms for j in arm.joints):
-            q_pin[model.idx_qs[model.getJointId(joint.name)]] = qi[3 + k]
-        pin.framesForwardKinematics(model, data, q_pin)
-        out.append(data.oMf[frame].translation.copy())
-    return np.array(out)
-
-
 def test_tiago_s_reached_postures_put_its_tool_on_the_target_by_pinocchio_within_the_joint_limits():
     robot = robots.build("tiago")
     target = np.array([1.0, 0.5, 0.8])
@@ -96,7 +77,7 @@ def test_tiago_s_reached_postures_put_its_tool_on_the_target_by_pinocchio_within
     reached = result.q[result.reached]
     assert not robot.limit_violations(reached).any()
     np.testing.assert_allclose(reached[:, :3], result.bases[result.reached], atol=0)
-    tool = _pinocchio_tool_positions(robot, reached)
+    tool = pinocchio_tool_positions(robot, reached)
     assert np.abs(tool - target).max() <= 1e-6
 
 

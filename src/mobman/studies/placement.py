@@ -2,22 +2,14 @@
 well.
 
 Every candidate platform pose (x, y, θ) of a polar grid around the target is tried. With the platform parked
-there, the arm's inverse kinematics is solved from several starting postures by damped least squares on the
-arm's coordinates q_a (the platform's columns of J held fixed),
-
-    Δq_a = J_aᵀ (J_a J_aᵀ + λ² I)⁻¹ e,   q_a ← clip(q_a + Δq_a, lower, upper),
-
-with e the task's error of ξ(q) with respect to the target ξ* (the difference, or the rotation vector of a
-:class:`~mobman.model.tasks.pose.Pose`), J_a the arm's columns of J (Bayle §3; the ``arm`` level of
-:mod:`mobman.manipulability`) and every step shortened to at most :data:`MAX_STEP` in each coordinate.
-Projection onto the joint limits keeps every posture admissible. A posture reaches the target when the norm
-of e is at most ``tolerance``; each base keeps its best start.
+there, the arm's inverse kinematics is solved from several starting postures by damped least squares within
+the joint limits (:mod:`mobman.studies.reaching`). A posture reaches the target when the norm of the task's
+error is at most ``tolerance``; each base keeps its best start.
 
 A reached placement is scored by a manipulability measure at its posture (:mod:`mobman.manipulability`):
 by default Yoshikawa's w of the arm's Jacobian J_a, which says how well the arm moves the task with the
 platform parked, or of the whole system's J̄ = J S (``level="system"``; Bayle eq. 2), which also counts what
-the platform's admissible velocities add (Bayle; Nait-Chabane). The solver is one compiled loop
-(``lax.fori_loop``) batched over every base and start by :func:`mobman.engine.batched.batched`.
+the platform's admissible velocities add (Bayle; Nait-Chabane).
 """
 
 from __future__ import annotations
@@ -25,29 +17,19 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import jax
-import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics as K
 from mobman import manipulability as mp
-from mobman.engine.batched import batched
 from mobman.errors import InputError
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Position, Task
 from mobman.redundancy import sample_configurations
-
-DAMPING = 1e-3
-"""λ of the damped least-squares step (in the task's units): small enough not to slow the last steps down
-(their error shrinks by about λ²/σ_min² per step), large enough to keep a step bounded at a singular J_a."""
-
-MAX_STEP = 0.5
-"""Largest change of one arm coordinate per step (rad or m): a step from far away stays in the region where
-J_a describes the motion."""
-
-LEVELS = ("arm", "system")
+from mobman.studies import options
+from mobman.studies.options import LEVELS
+from mobman.studies.reaching import reach, starting_postures
 
 REACH_SAMPLES = 4096
 """Random postures :func:`reach_radius` measures the arm's reach on."""
@@ -138,38 +120,6 @@ def candidate_bases(centre: npt.ArrayLike, radii: npt.ArrayLike, bearings: int, 
     return np.stack([c[0] + rr * np.cos(pp), c[1] + rr * np.sin(pp), theta], axis=-1)
 
 
-@batched({1: 1, 2: 1, 3: 1}, static=(0, 4, 5))
-def _solve(
-    robot: MobileManipulator,
-    base: jax.Array,
-    start: jax.Array,
-    target: jax.Array,
-    task: Task,
-    iterations: int,
-) -> tuple[jax.Array, jax.Array]:
-    """Damped least squares on the arm's coordinates from ``start`` with the platform at ``base`` (module
-    notes): (the last posture, the norm of its error)."""
-    n_p = robot.n_platform
-    platform = jnp.concatenate([base, jnp.zeros(n_p - 3, base.dtype)])
-    lower, upper = (jnp.asarray(b[n_p:], base.dtype) for b in np.array(robot.position_limits).T)
-
-    def error(q_a):
-        q = jnp.concatenate([platform, q_a])
-        return task.error(target, task.value(robot, q, robot.frames(q))), q
-
-    def step(_, q_a):
-        e, q = error(q_a)
-        j_a = K.jacobian_one(robot, task, q)[:, n_p:]
-        gram = j_a @ j_a.T + DAMPING**2 * jnp.eye(j_a.shape[0], dtype=j_a.dtype)
-        delta = j_a.T @ jnp.linalg.solve(gram, e)
-        delta = delta * jnp.minimum(1.0, MAX_STEP / jnp.maximum(jnp.max(jnp.abs(delta)), 1e-300))
-        return jnp.clip(q_a + delta, lower, upper)
-
-    q_a = jax.lax.fori_loop(0, iterations, step, jnp.clip(start, lower, upper))
-    e, q = error(q_a)
-    return q, jnp.linalg.norm(e)
-
-
 def place(
     robot: MobileManipulator,
     target: npt.ArrayLike,
@@ -201,28 +151,13 @@ def place(
     centre = _centre(task, target) if centre is None else _vector(centre, "centre", 2, "x, y")
     radii = np.linspace(0.0, reach_radius(robot), 8) if radii is None else _distances(radii)
     for name, value in (("bearings", bearings), ("headings", headings), ("starts", starts)):
-        if not (isinstance(value, (int, np.integer)) and value >= 1):
-            raise InputError(f"{name} must be an integer ≥ 1, got {value!r}")
-    if not (isinstance(iterations, (int, np.integer)) and iterations >= 1):
-        raise InputError(f"iterations must be an integer ≥ 1, got {iterations!r}")
+        options.count(value, name)
+    options.count(iterations, "iterations")
     if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
         raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
-    if measure not in mp.MEASURES:
-        raise InputError(f"measure must be one of {', '.join(mp.MEASURES)}, got {measure!r}")
-    if level not in LEVELS:
-        raise InputError(f"level must be one of {', '.join(LEVELS)}, got {level!r}")
+    options.scoring(measure, level)
     bases = candidate_bases(centre, radii, bearings, headings)
-    arm_part = slice(robot.n_platform, robot.n_q)
-    lower, upper = np.array(robot.position_limits).T
-    first = np.clip(np.zeros(robot.n_q), lower, upper)[arm_part]
-    seeds = sample_configurations(robot, starts - 1, seed)[:, arm_part]
-    start = np.concatenate([first[None], seeds])
-    q, error = _solve(robot, bases[:, None, :], start[None, :, :], target, task, int(iterations))
-    # an error is NaN where J was undefined on the way (an Euler task's gimbal lock): never the best start
-    error = np.where(np.isnan(error), np.inf, np.asarray(error))
-    pick = np.argmin(error, axis=1)
-    rows = np.arange(bases.shape[0])
-    q, error = np.asarray(q)[rows, pick], error[rows, pick]
+    q, error = reach(robot, bases, target, starting_postures(robot, starts, seed), task, iterations)
     reached = error <= tolerance
     score = np.zeros(bases.shape[0])
     if reached.any():
@@ -276,9 +211,7 @@ def _centre(task: Task, target: np.ndarray) -> np.ndarray:
 
 
 __all__ = [
-    "DAMPING",
     "LEVELS",
-    "MAX_STEP",
     "Placement",
     "candidate_bases",
     "place",

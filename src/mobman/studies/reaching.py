@@ -1,0 +1,109 @@
+"""Reaching a target with the arm, the platform parked: damped least-squares inverse kinematics within the
+joint limits, from several starting postures.
+
+With the platform at a pose (x, y, θ), the arm's coordinates q_a are driven towards the task target ξ* by
+
+    Δq_a = J_aᵀ (J_a J_aᵀ + λ² I)⁻¹ e,   q_a ← clip(q_a + Δq_a, lower, upper),
+
+with e the task's error of ξ(q) with respect to ξ* (the difference, or the rotation vector of a
+:class:`~mobman.model.tasks.pose.Pose`), J_a the arm's columns of J (Bayle §3; the ``arm`` level of
+:mod:`mobman.manipulability`) and every step shortened to at most :data:`MAX_STEP` in each coordinate.
+Projection onto the joint limits keeps every posture admissible. Each base and target keeps its best start.
+The solver is one compiled loop (``lax.fori_loop``) batched over bases, starts and targets by
+:func:`mobman.engine.batched.batched`. :mod:`mobman.studies.placement` (many bases, one target) and
+:mod:`mobman.studies.maps` (one base, many targets) are built on it.
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import numpy.typing as npt
+
+from mobman import kinematics as K
+from mobman.engine.batched import batched
+from mobman.model.robot import MobileManipulator
+from mobman.model.tasks import Task
+from mobman.redundancy import sample_configurations
+
+DAMPING = 1e-3
+"""λ of the damped least-squares step (in the task's units): small enough not to slow the last steps down
+(their error shrinks by about λ²/σ_min² per step), large enough to keep a step bounded at a singular J_a."""
+
+MAX_STEP = 0.5
+"""Largest change of one arm coordinate per step (rad or m): a step from far away stays in the region where
+J_a describes the motion."""
+
+
+def starting_postures(robot: MobileManipulator, starts: int, seed: int = 0) -> np.ndarray:
+    """``starts`` postures of the arm's coordinates, (starts, n_q − n_platform): 0 clipped to the joint
+    limits, then seeded random ones over the limits (:func:`mobman.redundancy.sample_configurations`)."""
+    arm_part = slice(robot.n_platform, robot.n_q)
+    lower, upper = np.array(robot.position_limits).T
+    first = np.clip(np.zeros(robot.n_q), lower, upper)[arm_part]
+    seeds = sample_configurations(robot, starts - 1, seed)[:, arm_part]
+    return np.concatenate([first[None], seeds])
+
+
+@batched({1: 1, 2: 1, 3: 1}, static=(0, 4, 5))
+def _solve(
+    robot: MobileManipulator,
+    base: jax.Array,
+    start: jax.Array,
+    target: jax.Array,
+    task: Task,
+    iterations: int,
+) -> tuple[jax.Array, jax.Array]:
+    """Damped least squares on the arm's coordinates from ``start`` with the platform at ``base`` (module
+    notes): (the last posture, the norm of its error)."""
+    n_p = robot.n_platform
+    platform = jnp.concatenate([base, jnp.zeros(n_p - 3, base.dtype)])
+    lower, upper = (jnp.asarray(b[n_p:], base.dtype) for b in np.array(robot.position_limits).T)
+
+    def error(q_a):
+        q = jnp.concatenate([platform, q_a])
+        return task.error(target, task.value(robot, q, robot.frames(q))), q
+
+    def least_squares(j, e):
+        gram = j @ j.T + DAMPING**2 * jnp.eye(j.shape[0], dtype=j.dtype)
+        return j.T @ jnp.linalg.solve(gram, e)
+
+    def step(_, q_a):
+        e, q = error(q_a)
+        j_a = K.jacobian_one(robot, task, q)[:, n_p:]
+        delta = least_squares(j_a, e)
+        # joints at a limit that the step pushes further out are held: the step is taken by the others
+        held = ((q_a <= lower) & (delta < 0)) | ((q_a >= upper) & (delta > 0))
+        delta = least_squares(jnp.where(held, 0.0, j_a), e)
+        delta = delta * jnp.minimum(1.0, MAX_STEP / jnp.maximum(jnp.max(jnp.abs(delta)), 1e-300))
+        return jnp.clip(q_a + delta, lower, upper)
+
+    q_a = jax.lax.fori_loop(0, iterations, step, jnp.clip(start, lower, upper))
+    e, q = error(q_a)
+    return q, jnp.linalg.norm(e)
+
+
+def reach(
+    robot: MobileManipulator,
+    bases: npt.ArrayLike,
+    targets: npt.ArrayLike,
+    starts: np.ndarray,
+    task: Task,
+    iterations: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The best of ``starts`` (S, n_q − n_platform) for each pair of platform pose ``bases`` (..., 3) and
+    task target ``targets`` (..., m), broadcast against each other: (q (..., n_q), the norm of the task's
+    error there (...,)). The platform's further coordinates, such as a steering angle, are 0. An error is
+    inf where J was undefined on the way from every start (an Euler task's gimbal lock): such a start is
+    never the best. The arguments are taken as checked (the callers check them)."""
+    base = np.asarray(bases, dtype=float)[..., None, :]
+    target = np.asarray(targets, dtype=float)[..., None, :]
+    q, error = _solve(robot, base, np.asarray(starts, dtype=float), target, task, int(iterations))
+    error = np.where(np.isnan(error), np.inf, np.asarray(error))
+    pick = np.argmin(error, axis=-1)
+    q = np.take_along_axis(np.asarray(q), pick[..., None, None], axis=-2)[..., 0, :]
+    return q, np.take_along_axis(error, pick[..., None], axis=-1)[..., 0]
+
+
+__all__ = ["DAMPING", "MAX_STEP", "reach", "starting_postures"]
