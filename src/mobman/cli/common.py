@@ -3,14 +3,18 @@ NAME=VALUE parameters, vectors, CSV files."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import os
 import shutil
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
 from mobman.cli.app import NOT_REACHED
 from mobman.errors import InputError
@@ -164,6 +168,36 @@ def not_reached(command: str, reason: str) -> None:
     are already printed and written)."""
     typer.echo(f"warning: mobman {command}: {reason}", err=True)
     raise typer.Exit(NOT_REACHED)
+
+
+class StudyOption:
+    """The command-line options of a study (``mobman map``, ``mobman sweep``; :mod:`mobman.studies.store`), as
+    the defaults of each command's parameters."""
+
+    store = typer.Option(
+        None, "--store", help="Zarr store (a folder) the results are kept in; an unfinished one is resumed."
+    )
+    scheduler = typer.Option(
+        None,
+        "--scheduler",
+        help="Compute on Dask: 'local', 'local:N' (N worker processes) or a scheduler's address "
+        "tcp://HOST:PORT (needs mobman[studies]).",
+    )
+    quiet = typer.Option(False, "--quiet", help="No progress bar.")
+
+
+@contextlib.contextmanager
+def progress_bar(label: str, show: bool) -> Iterator[Callable[[float], None] | None]:
+    """A progress callback (fraction done) drawing a bar labelled ``label`` on standard error, or None when
+    not ``show`` or when standard error is not a terminal (a log file gets no bar)."""
+    console = Console(stderr=True)
+    if not (show and console.is_terminal):
+        yield None
+        return
+    columns = (TextColumn(label), BarColumn(), TextColumn("{task.percentage:>3.0f}%"), TimeRemainingColumn())
+    with Progress(*columns, console=console, transient=True) as progress:
+        bar = progress.add_task(label, total=1.0)
+        yield lambda f: progress.update(bar, completed=f)
 
 
 def refuse_urdf_options(urdf: dict | None, what: str) -> None:

@@ -14,18 +14,16 @@ from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 import typer
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import MAX_STEPS, check_disk, check_steps, not_reached
+from mobman.cli.common import MAX_STEPS, check_disk, check_steps, not_reached, progress_bar
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.io import dump_json, trajectories
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
@@ -54,25 +52,8 @@ def _values_per_step(spec: Spec) -> int:
     return 2 * robot.n_q + 3 * robot.n_eta + 3 * spec.task.dim + len(spec.measures) + 4
 
 
-@contextlib.contextmanager
-def _progress(show: bool) -> Iterator[Callable[[float], None] | None]:
-    """A progress callback (fraction done) drawing a bar on standard error, or None when not ``show``."""
-    if not show:
-        yield None
-        return
-    columns = (
-        TextColumn("simulating"),
-        BarColumn(),
-        TextColumn("{task.percentage:>3.0f}%"),
-        TimeRemainingColumn(),
-    )
-    with Progress(*columns, console=Console(stderr=True), transient=True) as progress:
-        bar = progress.add_task("simulate", total=1.0)
-        yield lambda f: progress.update(bar, completed=f)
-
-
 def _run(spec: Spec, quiet: bool) -> SimulationResult:
-    with _progress(not quiet and _steps(spec) > PROGRESS_STEPS) as progress:
+    with progress_bar("simulating", not quiet and _steps(spec) > PROGRESS_STEPS) as progress:
         return spec.simulate(progress)
 
 
@@ -108,7 +89,7 @@ def stream(
     summary = metrics.RunningSummary(spec.robot)
     files: dict[str, np.memmap] = {}
     piece, k0 = None, 0
-    with _progress(not quiet) as progress:
+    with progress_bar("simulating", not quiet) as progress:
         for piece in simulate_pieces(**spec.arguments(), chunk=chunk):
             summary.add(piece)
             if folder is not None:

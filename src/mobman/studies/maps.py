@@ -1,0 +1,290 @@
+"""Reachability maps: where around its platform an arm's tool reaches, and how well.
+
+The space around the platform is cut into a grid of cells (``step`` apart, in the platform frame: origin at
+its reference point, x forward, z up; the platform at (x, y, θ) = 0). For each cell centre p the arm's
+inverse kinematics is solved with the platform parked, from several starting postures within the joint
+limits (:mod:`mobman.studies.reaching`, the task ``Position("xyz")`` of the arm's tool). A cell is reached
+when the tool gets within ``tolerance`` of p; it is scored by a manipulability measure at the posture found
+(:mod:`mobman.manipulability`): Yoshikawa's w, the inverse condition number w2 or the eccentricity w5 of the
+arm's position Jacobian J_a (its rows along the axes the tool moves: x and y for a planar arm) (``level="arm"``: how well the arm alone moves its tool there) or of the whole
+system's J̄ = J S (``level="system"``, Bayle eq. 2: with what the platform's admissible velocities add).
+
+Such a map (a capability or reachability map: Zacharias, Borst, Hirzinger, IROS 2007; Vahrenkamp, Asfour,
+Dillmann, ICRA 2013) answers design and placement questions for a whole workspace at once. It is a study of
+:mod:`mobman.studies.store`: its cells, in C order of the grid, are computed in chunks, kept in a Zarr store
+when one is given (resumable), and on a Dask cluster when asked.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+from dataclasses import dataclass
+from functools import partial
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mobman import kinematics as K
+from mobman import manipulability as mp
+from mobman.errors import InputError
+from mobman.model.robot import MobileManipulator
+from mobman.model.tasks import Position, Task
+from mobman.redundancy import sample_configurations
+from mobman.studies import options
+from mobman.studies import store as studies
+from mobman.studies.reaching import reach, starting_postures
+
+MAX_CELLS = 10_000_000
+"""Largest grid :func:`reachability_map` accepts (a cell holds a posture: TIAGo's take 88 bytes each)."""
+
+SAMPLES = 4096
+"""Random postures the default bounds are measured on (:func:`default_bounds`)."""
+
+KIND = "reachability-map"
+
+
+@dataclass(frozen=True)
+class ReachabilityMap:
+    """A reachability map (module notes). ``axes``: the cell centres along x, y and z (m, platform frame);
+    per cell, shape ``(len(x), len(y), len(z))``: ``reached``, ``error`` (the distance from the tool to the
+    centre at the posture found; NaN where not computed), ``score`` (the measure there; NaN where not
+    reached) and ``q`` (…, n_q: the posture, the platform's coordinates 0; NaN where not computed), and
+    ``computed`` (False for cells of an unfinished study read back from its store)."""
+
+    axes: tuple[np.ndarray, np.ndarray, np.ndarray]
+    reached: np.ndarray
+    error: np.ndarray
+    score: np.ndarray
+    q: np.ndarray
+    computed: np.ndarray
+    measure: str
+    level: str
+    tolerance: float
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        return (len(self.axes[0]), len(self.axes[1]), len(self.axes[2]))
+
+    @property
+    def fraction(self) -> float:
+        """The share of the computed cells that are reached."""
+        computed = int(self.computed.sum())
+        return float(self.reached.sum() / computed) if computed else math.nan
+
+    def centres(self) -> np.ndarray:
+        """Every cell's centre, shape (…, 3)."""
+        return np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1)
+
+    def best(self) -> tuple[int, int, int] | None:
+        """The index of the reached cell with the highest score, None when no cell is reached."""
+        if not self.reached.any():
+            return None
+        flat = int(np.nanargmax(np.where(self.reached, self.score, -np.inf)))
+        return tuple(int(i) for i in np.unravel_index(flat, self.shape))  # type: ignore[return-value]
+
+    def cell(self, point: npt.ArrayLike) -> tuple[int, int, int]:
+        """The index of the cell whose centre is nearest ``point`` (x, y, z)."""
+        p = np.asarray(point, dtype=float)
+        if p.shape != (3,) or not np.all(np.isfinite(p)):
+            raise InputError(f"point must be 3 finite numbers (x, y, z), got {point!r}")
+        return tuple(int(np.argmin(np.abs(axis - c))) for axis, c in zip(self.axes, p))  # type: ignore[return-value]
+
+
+def tool_positions(robot: MobileManipulator, arm: int) -> np.ndarray:
+    """Arm ``arm``'s tool positions (:data:`SAMPLES`, 3) at seeded postures within the joint limits
+    (:func:`mobman.redundancy.sample_configurations`), the platform at 0."""
+    q = sample_configurations(robot, SAMPLES, seed=0)
+    q[:, : robot.n_platform] = 0.0
+    return np.asarray(K.forward(robot, q, Position("xyz", arm=arm)))
+
+
+def moving_axes(tool: np.ndarray) -> np.ndarray:
+    """Which of x, y, z the tool moves along over the postures ``tool`` (:func:`tool_positions`): a planar
+    arm's z is fixed."""
+    low, high = tool.min(axis=0), tool.max(axis=0)
+    return high - low > 1e-9 * np.maximum(1.0, np.abs(high))
+
+
+def default_bounds(tool: np.ndarray, step: float) -> np.ndarray:
+    """Bounds (3, 2) of the tool positions ``tool`` (:func:`tool_positions`), widened to whole steps and one
+    more on each side (postures at the corners of the limits are rare among random ones). An axis the tool
+    does not move along is the single value it keeps."""
+    low, high = tool.min(axis=0), tool.max(axis=0)
+    bounds = np.stack([np.floor(low / step) * step - step, np.ceil(high / step) * step + step], axis=1)
+    flat = ~moving_axes(tool)
+    bounds[flat] = np.stack([low, low], axis=1)[flat]
+    return bounds
+
+
+def grid_axes(bounds: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cell centres along each axis: from its lower bound, ``step`` apart, up to its upper bound."""
+    return tuple(lo + step * np.arange(math.floor((hi - lo) / step + 1e-9) + 1) for lo, hi in bounds)
+
+
+def reachability_map(
+    robot: MobileManipulator,
+    *,
+    arm: int = 0,
+    bounds: npt.ArrayLike | None = None,
+    step: float = 0.05,
+    starts: int = 8,
+    iterations: int = 60,
+    tolerance: float = 1e-4,
+    measure: str = "yoshikawa",
+    level: str = "arm",
+    seed: int = 0,
+    store: str | None = None,
+    chunk: int | None = None,
+    scheduler: str | None = None,
+    progress: studies.Progress | None = None,
+) -> ReachabilityMap:
+    """The reachability map of arm ``arm``'s tool (module notes).
+
+    ``bounds``: (x_min, x_max, y_min, y_max, z_min, z_max) of the cell centres (m, platform frame), by
+    default :func:`default_bounds`; ``step``: the distance between centres (m); ``starts``, ``iterations``:
+    starting postures per cell and damped least-squares steps from each (:mod:`mobman.studies.reaching`;
+    the starts are seeded by ``seed``); ``tolerance``: the largest distance (m) of a reached cell's centre;
+    ``measure``: one of :data:`mobman.manipulability.MEASURES`; ``level``: ``"arm"`` or ``"system"``.
+    ``store``, ``chunk``, ``scheduler``, ``progress``: where and how the cells are computed
+    (:func:`mobman.studies.store.run`); a store that holds this map, finished or not, is read and completed.
+    """
+    if not (isinstance(arm, (int, np.integer)) and 0 <= arm < len(robot.arms)):
+        raise InputError(f"arm must be an integer from 0 to {len(robot.arms) - 1}, got {arm!r}")
+    step = options.distance(step, "step")
+    starts, iterations = options.count(starts, "starts"), options.count(iterations, "iterations")
+    tolerance = options.distance(tolerance, "tolerance")
+    options.scoring(measure, level)
+    tool = tool_positions(robot, int(arm))
+    box = default_bounds(tool, float(step)) if bounds is None else parse_bounds(bounds)
+    axes = grid_axes(box, float(step))
+    shape = tuple(len(a) for a in axes)
+    cells = math.prod(shape)
+    if cells > MAX_CELLS:
+        raise InputError(
+            f"step {step:g} m makes {cells:,} cells ({' × '.join(map(str, shape))}), more than {MAX_CELLS:,}: "
+            "give a larger step or smaller bounds"
+        )
+    task = Position("xyz", arm=arm)
+    # the measure's rows: the directions the tool moves along (a planar arm's constant z would make w zero)
+    scored = Position("".join(c for c, m in zip("xyz", moving_axes(tool)) if m), arm=arm)
+    columns = {
+        "reached": studies.Column((), "bool", False),
+        "error": studies.Column(),
+        "score": studies.Column(),
+        "q": studies.Column((robot.n_q,)),
+    }
+    definition = {
+        "study": KIND,
+        "robot": robot.name,
+        "robot_digest": robot_digest(robot),
+        "arm": int(arm),
+        "bounds": box.tolist(),
+        "step": float(step),
+        "starts": int(starts),
+        "iterations": int(iterations),
+        "tolerance": float(tolerance),
+        "measure": measure,
+        "level": level,
+        "scored": scored.components,
+        "seed": int(seed),
+    }
+    compute = partial(
+        _cells, robot, task, scored, axes, starting_postures(robot, int(starts), int(seed)), int(iterations),
+        float(tolerance), measure, level,
+    )  # fmt: skip
+    study = studies.run(
+        compute, cells, columns, definition, store=store, chunk=chunk, scheduler=scheduler, progress=progress
+    )
+    return from_study(study)
+
+
+def from_study(study: studies.Study) -> ReachabilityMap:
+    """A map from its study's results (:func:`mobman.studies.store.read` of a map's store)."""
+    d = study.definition
+    if d.get("study") != KIND:
+        raise InputError(f"the study is a {d.get('study')!r}, not a {KIND}")
+    axes = grid_axes(np.asarray(d["bounds"], dtype=float), float(d["step"]))
+    shape = tuple(len(a) for a in axes)
+    c = study.columns
+    return ReachabilityMap(
+        axes=axes,
+        reached=c["reached"].reshape(shape),
+        error=c["error"].reshape(shape),
+        score=c["score"].reshape(shape),
+        q=c["q"].reshape(shape + c["q"].shape[1:]),
+        computed=study.done.reshape(shape),
+        measure=d["measure"],
+        level=d["level"],
+        tolerance=float(d["tolerance"]),
+    )
+
+
+def robot_digest(robot: MobileManipulator) -> str:
+    """A short digest of the robot's description (its kinematics, limits and inertials, not its task): a
+    store computed for another robot of the same name is refused."""
+    text = repr(dataclasses.replace(robot, task=Position("xyz")))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _cells(
+    robot: MobileManipulator,
+    task: Task,
+    scored: Task,
+    axes: tuple[np.ndarray, ...],
+    starts: np.ndarray,
+    iterations: int,
+    tolerance: float,
+    measure: str,
+    level: str,
+    start: int,
+    stop: int,
+) -> dict[str, Any]:
+    """The map's cells [start, stop) in C order: reach each centre (``task``), score the reached ones
+    (``scored``'s rows of J)."""
+    index = np.unravel_index(np.arange(start, stop), tuple(len(a) for a in axes))
+    centres = np.stack([axis[i] for axis, i in zip(axes, index)], axis=-1)
+    q, error = reach(robot, np.zeros(3), centres, starts, task, iterations)
+    reached = error <= tolerance
+    score = np.full(stop - start, math.nan)
+    if reached.any():
+        score[reached] = np.asarray(mp.jacobian_and_measures(robot, q[reached], level, scored)[1][measure])
+    return {"reached": reached, "error": np.where(np.isinf(error), math.nan, error), "score": score, "q": q}
+
+
+def parse_bounds(value: npt.ArrayLike) -> np.ndarray:
+    """(x_min, x_max, y_min, y_max, z_min, z_max) → bounds (3, 2), checked."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"bounds must be 6 numbers x_min, x_max, y_min, y_max, z_min, z_max, got {value!r}"
+        ) from None
+    if arr.size != 6 or not np.all(np.isfinite(arr)):
+        raise InputError(
+            f"bounds must be 6 finite numbers x_min, x_max, y_min, y_max, z_min, z_max (m), got {arr.size}"
+            + ("" if arr.size != 6 else " with NaN or infinite values")
+        )
+    box = arr.reshape(3, 2)
+    for name, (lo, hi) in zip("xyz", box):
+        if lo > hi:
+            raise InputError(f"bounds: {name}_min {lo:g} is above {name}_max {hi:g}")
+    return box
+
+
+__all__ = [
+    "KIND",
+    "MAX_CELLS",
+    "ReachabilityMap",
+    "SAMPLES",
+    "default_bounds",
+    "from_study",
+    "grid_axes",
+    "moving_axes",
+    "parse_bounds",
+    "reachability_map",
+    "robot_digest",
+    "tool_positions",
+]
