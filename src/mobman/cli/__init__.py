@@ -12,7 +12,19 @@ import sys
 import typer
 
 # Each module registers its commands on ``app`` when imported.
-from mobman.cli import analyze, dynamics, ellipsoid, place, plan, reproduce, robots, simulate, view  # noqa: F401
+from mobman.cli import (  # noqa: F401
+    analyze,
+    dynamics,
+    ellipsoid,
+    maps,
+    place,
+    plan,
+    reproduce,
+    robots,
+    simulate,
+    sweep,
+    view,
+)
 from mobman.cli.app import INTERRUPTED, app
 from mobman.engine import compilation_cache
 from mobman.errors import MobmanError

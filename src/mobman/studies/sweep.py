@@ -1,0 +1,295 @@
+"""Design sweeps: a built-in robot's parameters varied over a grid, each design scored.
+
+Every combination of the values given for the parameters (link lengths, offsets, velocity limits: the keyword
+parameters of a robot of :mod:`mobman.model.robots`, as ``mobman robots`` lists them) is one design. Each
+design is scored by
+
+- the manipulability of its arm's tool over seeded random postures within the joint limits
+  (:func:`mobman.redundancy.sample_configurations`, the same seed for every design, so that designs are
+  compared on the same draws scaled to their limits: common random numbers): the mean, the 10th percentile,
+  the median and the largest value of Yoshikawa's w, the inverse condition number w2 or the eccentricity w5
+  (Nait-Chabane eq. 17–19) of the arm's position Jacobian J_a (``level="arm"``) or of the whole system's
+  J̄ = J S (``level="system"``, Bayle eq. 2), the rows along the axes the tool moves
+  (:func:`mobman.studies.maps.moving_axes`);
+- its horizontal reach (:func:`mobman.studies.placement.reach_radius`);
+- with ``bounds`` and ``step``, the share of that box's cells its tool reaches with the platform parked
+  (``coverage``, :func:`mobman.studies.maps.reachability_map`): how well the design serves a given workspace.
+
+Each design compiles its own programs (a robot is a static argument of mobman's compiled functions), about a
+second or more per design, so a sweep is worth spreading over a Dask cluster. It is a study of
+:mod:`mobman.studies.store`: one design per unit of work by default, kept in a Zarr store when one is given
+(resumable), computed on Dask when asked.
+"""
+
+from __future__ import annotations
+
+import inspect
+import itertools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import partial
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from mobman import manipulability as mp
+from mobman.errors import InputError, MobmanError
+from mobman.model import robots
+from mobman.model.robot import MobileManipulator
+from mobman.model.tasks import Position
+from mobman.redundancy import sample_configurations
+from mobman.studies import maps, options
+from mobman.studies import store as studies
+from mobman.studies.placement import reach_radius
+
+KIND = "design-sweep"
+
+STATISTICS = ("mean", "p10", "median", "max")
+"""The statistics of the measure over the sampled postures, each a metric of the sweep."""
+
+MAX_DESIGNS = 100_000
+"""Largest grid of designs :func:`sweep` accepts."""
+
+
+@dataclass(frozen=True)
+class DesignSweep:
+    """A design sweep's results (module notes). ``parameters``: each varied parameter's values, in the order
+    of the grid's axes; ``metrics``: each metric over the grid, shape (len(values) for each parameter):
+    :data:`STATISTICS` of the measure, ``reach`` (m) and, when a box was given, ``coverage`` (0 to 1); NaN
+    for a design not computed, or one the robot's constructor refused (its reason in ``failures``, by
+    design index)."""
+
+    robot: str
+    parameters: dict[str, np.ndarray]
+    fixed: dict[str, float]
+    metrics: dict[str, np.ndarray]
+    computed: np.ndarray
+    failures: dict[tuple[int, ...], str]
+    measure: str
+    level: str
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(v) for v in self.parameters.values())
+
+    def design(self, index: tuple[int, ...]) -> dict[str, float]:
+        """The parameters of the design at ``index`` of the grid (the fixed ones included)."""
+        return {**self.fixed, **{name: float(v[i]) for (name, v), i in zip(self.parameters.items(), index)}}
+
+    def ranking(self, metric: str = "mean", count: int = 5) -> list[tuple[int, ...]]:
+        """The indices of the ``count`` designs with the highest ``metric``, best first (NaN last, left out)."""
+        if metric not in self.metrics:
+            raise InputError(f"metric must be one of {', '.join(self.metrics)}, got {metric!r}")
+        values = self.metrics[metric].ravel()
+        order = [int(k) for k in np.argsort(-np.where(np.isnan(values), -np.inf, values), kind="stable")]
+        kept = [k for k in order if not np.isnan(values[k])][:count]
+        return [tuple(int(i) for i in np.unravel_index(k, self.shape)) for k in kept]
+
+
+def sweep(
+    robot: str,
+    parameters: Mapping[str, npt.ArrayLike],
+    *,
+    fixed: dict[str, float] | None = None,
+    arm: int = 0,
+    samples: int = 2000,
+    measure: str = "yoshikawa",
+    level: str = "arm",
+    seed: int = 0,
+    bounds: npt.ArrayLike | None = None,
+    step: float | None = None,
+    store: str | None = None,
+    chunk: int | None = None,
+    scheduler: str | None = None,
+    progress: studies.Progress | None = None,
+) -> DesignSweep:
+    """Score every design of the grid ``parameters`` (name → values) of the built-in robot ``robot`` (its
+    command-line name; module notes).
+
+    ``fixed``: the robot's other parameters (its defaults otherwise); ``arm``: whose tool is scored;
+    ``samples``: postures per design; ``measure``: one of :data:`mobman.manipulability.MEASURES`;
+    ``level``: ``"arm"`` or ``"system"``; ``bounds`` (6 numbers, m) and ``step`` (m): the box of the
+    ``coverage`` metric (:func:`mobman.studies.maps.reachability_map`, its other options at their defaults);
+    ``store``, ``chunk`` (designs per unit of work: 1 for a new sweep, the store's own for one resumed),
+    ``scheduler``, ``progress``: :func:`mobman.studies.store.run`.
+    """
+    name = robots.command_name(robot) if isinstance(robot, str) else None
+    if name is None or name not in robots.ROBOTS:
+        raise InputError(f"robot must be a built-in robot's name ({', '.join(robots.ROBOTS)}), got {robot!r}")
+    allowed = list(inspect.signature(robots.ROBOTS[name]).parameters)
+    fixed = {k: float(v) for k, v in (fixed or {}).items()}
+    grid = _grid(name, allowed, parameters, fixed)
+    samples = options.count(samples, "samples")
+    if not (isinstance(arm, (int, np.integer)) and arm >= 0):
+        raise InputError(f"arm must be an integer ≥ 0, got {arm!r}")
+    options.scoring(measure, level)
+    if (bounds is None) != (step is None):
+        raise InputError("bounds and step go together: give both for the coverage of a box, or neither")
+    box = None if bounds is None else maps.parse_bounds(bounds).tolist()
+    step = None if step is None else options.distance(step, "step")
+    shape = tuple(len(v) for v in grid.values())
+    designs = math.prod(shape)
+    if designs > MAX_DESIGNS:
+        raise InputError(f"{designs:,} designs ({' × '.join(map(str, shape))}), more than {MAX_DESIGNS:,}")
+    metrics = list(STATISTICS) + ["reach"] + (["coverage"] if box is not None else [])
+    columns = {m: studies.Column() for m in metrics}
+    columns["refused"] = studies.Column((), "bool", False)
+    definition = {
+        "study": KIND,
+        "robot": name,
+        "parameters": {k: v.tolist() for k, v in grid.items()},
+        "fixed": fixed,
+        "arm": int(arm),
+        "samples": int(samples),
+        "measure": measure,
+        "level": level,
+        "seed": int(seed),
+        "bounds": box,
+        "step": None if step is None else float(step),
+    }
+    compute = partial(
+        _designs, name, {k: v.tolist() for k, v in grid.items()}, fixed, int(arm), int(samples), measure,
+        level, int(seed), box, None if step is None else float(step),
+    )  # fmt: skip
+    study = studies.run(
+        compute,
+        designs,
+        columns,
+        definition,
+        store=store,
+        chunk=chunk,
+        new_chunk=1,
+        scheduler=scheduler,
+        progress=progress,
+    )
+    return from_study(study)
+
+
+def from_study(study: studies.Study) -> DesignSweep:
+    """A design sweep from its study's results (:func:`mobman.studies.store.read` of a sweep's store)."""
+    d = study.definition
+    if d.get("study") != KIND:
+        raise InputError(f"the study is a {d.get('study')!r}, not a {KIND}")
+    parameters = {k: np.asarray(v, dtype=float) for k, v in d["parameters"].items()}
+    shape = tuple(len(v) for v in parameters.values())
+    fixed = {k: float(v) for k, v in d["fixed"].items()}
+    failures = {}
+    for k in np.flatnonzero(study.columns["refused"]):
+        index = tuple(int(i) for i in np.unravel_index(k, shape))
+        design = {name: float(v[i]) for (name, v), i in zip(parameters.items(), index)}
+        built = _build(d["robot"], {**fixed, **design}, int(d["arm"]))
+        failures[index] = built if isinstance(built, str) else "refused"
+    return DesignSweep(
+        robot=d["robot"],
+        parameters=parameters,
+        fixed=fixed,
+        metrics={k: v.reshape(shape) for k, v in study.columns.items() if k != "refused"},
+        computed=study.done.reshape(shape),
+        failures=failures,
+        measure=d["measure"],
+        level=d["level"],
+    )
+
+
+def _grid(
+    name: str, allowed: list[str], parameters: Mapping[str, npt.ArrayLike], fixed: dict[str, float]
+) -> dict[str, np.ndarray]:
+    if not parameters:
+        raise InputError(
+            f"parameters: give at least one parameter of robot {name} to vary ({', '.join(allowed) or 'it has none'})"
+        )
+    grid = {}
+    for key, values in parameters.items():
+        if key not in allowed:
+            raise InputError(
+                f"parameters: robot {name} has no parameter {key!r}; its parameters: {', '.join(allowed) or 'none'}"
+            )
+        if key in fixed:
+            raise InputError(f"parameters: {key} is both varied and fixed")
+        try:
+            arr = np.asarray(values, dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise InputError(f"parameters: {key} must be numbers, got {values!r}") from None
+        if arr.size == 0 or not np.all(np.isfinite(arr)):
+            raise InputError(f"parameters: {key} must be one or more finite numbers")
+        grid[key] = arr
+    for key in fixed:
+        if key not in allowed:
+            raise InputError(
+                f"fixed: robot {name} has no parameter {key!r}; its parameters: {', '.join(allowed)}"
+            )
+    return grid
+
+
+def _designs(
+    name: str,
+    grid: dict[str, list[float]],
+    fixed: dict[str, float],
+    arm: int,
+    samples: int,
+    measure: str,
+    level: str,
+    seed: int,
+    box: list[list[float]] | None,
+    step: float | None,
+    start: int,
+    stop: int,
+) -> dict[str, np.ndarray]:
+    """The designs [start, stop) of the grid in C order, one after the other (each compiles its own
+    programs)."""
+    combos = list(itertools.product(*grid.values()))[start:stop]
+    rows: list[dict[str, Any]] = []
+    for combo in combos:
+        robot = _build(name, {**fixed, **dict(zip(grid, combo))}, arm)
+        if isinstance(robot, str):  # a design the constructor refuses (a length ≤ 0): recorded, not fatal
+            rows.append({"refused": True})
+        else:
+            rows.append(_score(robot, arm, samples, measure, level, seed, box, step))
+    names = list(STATISTICS) + ["reach"] + (["coverage"] if box is not None else [])
+    out = {m: np.array([r.get(m, math.nan) for r in rows], dtype=float) for m in names}
+    out["refused"] = np.array([r.get("refused", False) for r in rows], dtype=bool)
+    return out
+
+
+def _build(name: str, design: dict[str, float], arm: int) -> MobileManipulator | str:
+    """The robot ``name`` built with ``design``, or why it cannot be (or has no arm ``arm``)."""
+    try:
+        robot = robots.build(name, **design)
+    except MobmanError as exc:
+        return str(exc)
+    if arm >= len(robot.arms):
+        return f"arm {arm}: the robot has {len(robot.arms)} arm(s)"
+    return robot
+
+
+def _score(
+    robot: MobileManipulator,
+    arm: int,
+    samples: int,
+    measure: str,
+    level: str,
+    seed: int,
+    box: list[list[float]] | None,
+    step: float | None,
+) -> dict[str, float]:
+    """One design's metrics (module notes)."""
+    scored = Position(
+        "".join(c for c, m in zip("xyz", maps.moving_axes(maps.tool_positions(robot, arm))) if m), arm=arm
+    )
+    q = sample_configurations(robot, samples, seed)
+    values = np.asarray(mp.jacobian_and_measures(robot, q, level, scored)[1][measure])
+    row = {
+        "mean": float(np.mean(values)),
+        "p10": float(np.percentile(values, 10)),
+        "median": float(np.median(values)),
+        "max": float(np.max(values)),
+        "reach": reach_radius(robot, arm),
+    }
+    if box is not None and step is not None:
+        row["coverage"] = maps.reachability_map(robot, arm=arm, bounds=np.ravel(box), step=step).fraction
+    return row
+
+
+__all__ = ["DesignSweep", "KIND", "MAX_DESIGNS", "STATISTICS", "from_study", "sweep"]
