@@ -10,7 +10,7 @@ from mobman import kinematics as K
 from mobman.model import robots
 from mobman.model.tasks import Position
 from mobman.redundancy import sample_configurations
-from mobman.studies.reaching import reach, starting_postures
+from mobman.studies.reaching import best, reach, starting_postures
 
 from tiago_urdf import pinocchio_tool_positions
 
@@ -23,7 +23,14 @@ def test_the_planar_2r_arm_reaches_its_annulus_in_the_closed_form_elbow_angle():
     d = np.array([0.2, 0.3, 0.3 + 1e-9, 0.5, 0.8, 1.1 - 1e-9, 1.1, 1.2])
     angle = np.linspace(-np.pi, np.pi, d.size)  # directions over the whole turn, ±π included
     targets = np.stack([d * np.cos(angle), d * np.sin(angle), np.zeros_like(d)], axis=-1)
-    q, error = reach(robot, np.zeros(3), targets, starting_postures(robot, 4), TASK, 100)
+    q, error, _ = best(
+        robot,
+        *reach(robot, np.zeros(3), targets, starting_postures(robot, 4), TASK, 100),
+        1e-6,
+        TASK,
+        "yoshikawa",
+        "arm",
+    )
     inside = (d >= l1 - l2) & (d <= l1 + l2)
     assert list(error <= 1e-6) == list(inside)
     # law of cosines: cos q5 = (d² − l1² − l2²) / (2 l1 l2)
@@ -39,7 +46,14 @@ def test_tiago_reaches_the_tool_positions_of_its_own_postures_by_pinocchio_withi
     q = sample_configurations(robot, 200, seed=11)
     q[:, :3] = 0.0
     targets = np.asarray(K.forward(robot, q, TASK))
-    found, error = reach(robot, np.zeros(3), targets, starting_postures(robot, 8), TASK, 60)
+    found, error, _ = best(
+        robot,
+        *reach(robot, np.zeros(3), targets, starting_postures(robot, 8), TASK, 60),
+        1e-9,
+        TASK,
+        "yoshikawa",
+        "arm",
+    )
     reached = error <= 1e-9
     assert reached.mean() >= 0.99  # a local method: a few targets need more starts
     assert not robot.limit_violations(found).any()
@@ -54,7 +68,8 @@ def test_joints_held_at_their_limits_let_the_others_take_the_step():
     q[:, :3] = 0.0
     targets = np.asarray(K.forward(robot, q, TASK))
     _, error = reach(robot, np.zeros(3), targets, starting_postures(robot, 4), TASK, 60)
-    assert np.mean(error <= 1e-4) >= 0.95
+    assert error.shape == (300, 4)
+    assert np.mean(error.min(axis=1) <= 1e-4) >= 0.95
 
 
 @pytest.mark.parametrize("base", [(0.0, 0.0, np.pi / 2), (1.0, -2.0, np.pi), (-0.5, 0.3, -np.pi / 2)])
@@ -63,6 +78,38 @@ def test_a_target_moves_with_the_platform(base):
     q = sample_configurations(robot, 20, seed=3)
     q[:, :3] = base
     targets = np.asarray(K.forward(robot, q, TASK))
-    found, error = reach(robot, np.asarray(base), targets, starting_postures(robot, 8), TASK, 60)
+    found, error, _ = best(
+        robot,
+        *reach(robot, np.asarray(base), targets, starting_postures(robot, 8), TASK, 60),
+        1e-9,
+        TASK,
+        "yoshikawa",
+        "arm",
+    )
     assert error.max() <= 1e-9
     np.testing.assert_array_equal(found[:, :3], np.broadcast_to(base, (20, 3)))
+
+
+def test_of_the_starts_that_reach_a_target_the_one_of_highest_manipulability_is_kept():
+    robot = robots.build("tiago")
+    q = sample_configurations(robot, 30, seed=8)
+    q[:, :3] = 0.0
+    targets = np.asarray(K.forward(robot, q, TASK))
+    every, errors = reach(robot, np.zeros(3), targets, starting_postures(robot, 8), TASK, 60)
+    found, error, score = best(robot, every, errors, 1e-9, TASK, "yoshikawa", "arm")
+    j = np.asarray(K.jacobian(robot, every, TASK))[..., 3:]  # the arm's columns, every start
+    w = np.sqrt(np.linalg.det(j @ np.swapaxes(j, -1, -2)))
+    reached = errors <= 1e-9
+    assert (reached.sum(axis=1) >= 2).sum() >= 20  # most targets are reached from several postures
+    np.testing.assert_allclose(score, np.where(reached, w, -np.inf).max(axis=1), rtol=1e-10)
+    assert np.all(w[reached].max() >= score)
+    # where no start reaches the target, the closest start is kept and its score is NaN
+    far, far_error, far_score = best(
+        robot,
+        *reach(robot, np.zeros(3), [[5.0, 0, 1]], starting_postures(robot, 3), TASK, 10),
+        1e-9,
+        TASK,
+        "yoshikawa",
+        "arm",
+    )
+    assert np.isnan(far_score).all() and far_error[0] > 3.0 and far.shape == (1, robot.n_q)

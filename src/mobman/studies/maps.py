@@ -28,14 +28,13 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics as K
-from mobman import manipulability as mp
 from mobman.errors import InputError
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Position, Task
 from mobman.redundancy import sample_configurations
 from mobman.studies import options
 from mobman.studies import store as studies
-from mobman.studies.reaching import reach, starting_postures
+from mobman.studies.reaching import best, reach, starting_postures
 
 MAX_CELLS = 10_000_000
 """Largest grid :func:`reachability_map` accepts (a cell holds a posture: TIAGo's take 88 bytes each)."""
@@ -246,11 +245,15 @@ def _cells(
     (``scored``'s rows of J)."""
     index = np.unravel_index(np.arange(start, stop), tuple(len(a) for a in axes))
     centres = np.stack([axis[i] for axis, i in zip(axes, index)], axis=-1)
-    q, error = reach(robot, np.zeros(3), centres, starts, task, iterations)
+    q, error, score = best(
+        robot,
+        *reach(robot, np.zeros(3), centres, starts, task, iterations),
+        tolerance,
+        scored,
+        measure,
+        level,
+    )
     reached = error <= tolerance
-    score = np.full(stop - start, math.nan)
-    if reached.any():
-        score[reached] = np.asarray(mp.jacobian_and_measures(robot, q[reached], level, scored)[1][measure])
     return {"reached": reached, "error": np.where(np.isinf(error), math.nan, error), "score": score, "q": q}
 
 

@@ -4,7 +4,7 @@ well.
 Every candidate platform pose (x, y, θ) of a polar grid around the target is tried. With the platform parked
 there, the arm's inverse kinematics is solved from several starting postures by damped least squares within
 the joint limits (:mod:`mobman.studies.reaching`). A posture reaches the target when the norm of the task's
-error is at most ``tolerance``; each base keeps its best start.
+error is at most ``tolerance``; of the starts that reach it, each base keeps the one of highest score.
 
 A reached placement is scored by a manipulability measure at its posture (:mod:`mobman.manipulability`):
 by default Yoshikawa's w of the arm's Jacobian J_a, which says how well the arm moves the task with the
@@ -21,7 +21,6 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics as K
-from mobman import manipulability as mp
 from mobman.errors import InputError
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
@@ -29,7 +28,7 @@ from mobman.model.tasks import Position, Task
 from mobman.redundancy import sample_configurations
 from mobman.studies import options
 from mobman.studies.options import LEVELS
-from mobman.studies.reaching import reach, starting_postures
+from mobman.studies.reaching import best, reach, starting_postures
 
 REACH_SAMPLES = 4096
 """Random postures :func:`reach_radius` measures the arm's reach on."""
@@ -43,11 +42,13 @@ arm fully out, are rare among random ones (Stretch: 0.84 m over 4,096 postures, 
 class Placement:
     """Candidate platform poses and what the arm reaches from each.
 
-    ``bases`` (N, 3): the platform poses (x, y, θ); ``q`` (N, n_q): the best posture found from each (the
+    ``bases`` (N, 3): the platform poses (x, y, θ); ``q`` (N, n_q): the posture kept for each (the
     platform's further coordinates, such as a steering angle, at 0; NaN where J was undefined from every
     start); ``error`` (N,): the norm of the task's error there (inf for those); ``reached`` (N,): error ≤
-    tolerance; ``score`` (N,): the measure at the posture where reached, 0 where not. ``best``: the index of the reached base with the highest score, None when no base reaches
-    the target. ``n_platform``: the platform's coordinates at the start of each row of ``q``.
+    tolerance; ``score`` (N,): the measure at the posture where reached, 0 where not. ``best``: the index of
+    the reached base with the highest score, None when no base reaches the target. ``n_platform``: the
+    platform's coordinates at the start of each row of ``q``; ``revolute``: which of the arms' coordinates
+    are angles of revolute joints.
     """
 
     target: np.ndarray
@@ -60,6 +61,7 @@ class Placement:
     level: str
     tolerance: float
     n_platform: int
+    revolute: tuple[bool, ...] = ()
 
     @property
     def best(self) -> int | None:
@@ -69,7 +71,8 @@ class Placement:
 
     def ranking(self, count: int = 5, distinct: bool = True) -> np.ndarray:
         """Indices of the ``count`` best reached bases, best first. ``distinct``: a base whose arm posture
-        equals (to 1e-6) that of a base already listed is left out. For a target the task's value does not
+        equals (to 1e-6, the angles of revolute joints a whole turn apart equal) that of a base already listed
+        is left out. For a target the task's value does not
         change when turned about the vertical, such as a point, every bearing around the centre with the same
         distance and heading towards it is the same placement."""
         reached = np.flatnonzero(self.reached)
@@ -77,11 +80,19 @@ class Placement:
         if not distinct:
             return order[:count]
         arm = self.q[:, self.n_platform :]
+        turns = np.array(self.revolute, dtype=bool) if self.revolute else np.zeros(arm.shape[1], dtype=bool)
+
+        def same(a: np.ndarray, b: np.ndarray) -> bool:
+            difference = a - b
+            # a revolute joint's angles a whole turn apart are the same posture
+            difference[turns] = np.angle(np.exp(1j * difference[turns]))
+            return bool(np.max(np.abs(difference)) <= 1e-6)
+
         chosen: list[int] = []
         for k in order:
             if len(chosen) == count:
                 break
-            if not any(np.max(np.abs(arm[k] - arm[c])) <= 1e-6 for c in chosen):
+            if not any(same(arm[k], arm[c]) for c in chosen):
                 chosen.append(int(k))
         return np.asarray(chosen, dtype=int)
 
@@ -157,11 +168,12 @@ def place(
         raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
     options.scoring(measure, level)
     bases = candidate_bases(centre, radii, bearings, headings)
-    q, error = reach(robot, bases, target, starting_postures(robot, starts, seed), task, iterations)
+    q, error, score = best(
+        robot, *reach(robot, bases, target, starting_postures(robot, starts, seed), task, iterations),
+        tolerance, task, measure, level,
+    )  # fmt: skip
     reached = error <= tolerance
-    score = np.zeros(bases.shape[0])
-    if reached.any():
-        score[reached] = np.asarray(mp.jacobian_and_measures(robot, q[reached], level, task)[1][measure])
+    score = np.where(reached, score, 0.0)
     return Placement(
         target=np.asarray(target),
         bases=bases,
@@ -173,6 +185,7 @@ def place(
         level=level,
         tolerance=float(tolerance),
         n_platform=robot.n_platform,
+        revolute=tuple(j.kind == "revolute" for arm in robot.arms for j in arm.joints),
     )
 
 

@@ -8,7 +8,8 @@ With the platform at a pose (x, y, θ), the arm's coordinates q_a are driven tow
 with e the task's error of ξ(q) with respect to ξ* (the difference, or the rotation vector of a
 :class:`~mobman.model.tasks.pose.Pose`), J_a the arm's columns of J (Bayle §3; the ``arm`` level of
 :mod:`mobman.manipulability`) and every step shortened to at most :data:`MAX_STEP` in each coordinate.
-Projection onto the joint limits keeps every posture admissible. Each base and target keeps its best start.
+Projection onto the joint limits keeps every posture admissible. Each base and target keeps one start
+(:func:`best`): of those that reach the target, the one of highest manipulability.
 The solver is one compiled loop (``lax.fori_loop``) batched over bases, starts and targets by
 :func:`mobman.engine.batched.batched`. :mod:`mobman.studies.placement` (many bases, one target) and
 :mod:`mobman.studies.maps` (one base, many targets) are built on it.
@@ -22,6 +23,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics as K
+from mobman import manipulability as mp
 from mobman.engine.batched import batched
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Task
@@ -92,18 +94,45 @@ def reach(
     task: Task,
     iterations: int,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The best of ``starts`` (S, n_q − n_platform) for each pair of platform pose ``bases`` (..., 3) and
-    task target ``targets`` (..., m), broadcast against each other: (q (..., n_q), the norm of the task's
-    error there (...,)). The platform's further coordinates, such as a steering angle, are 0. An error is
-    inf where J was undefined on the way from every start (an Euler task's gimbal lock): such a start is
-    never the best. The arguments are taken as checked (the callers check them)."""
+    """The posture reached from each of ``starts`` (S, n_q − n_platform) for each pair of platform pose
+    ``bases`` (..., 3) and task target ``targets`` (..., m), broadcast against each other: (q (..., S, n_q),
+    the norm of the task's error there (..., S)). The platform's further coordinates, such as a steering
+    angle, are 0. An error is inf where J was undefined on the way (an Euler task's gimbal lock). The
+    arguments are taken as checked (the callers check them)."""
     base = np.asarray(bases, dtype=float)[..., None, :]
     target = np.asarray(targets, dtype=float)[..., None, :]
     q, error = _solve(robot, base, np.asarray(starts, dtype=float), target, task, int(iterations))
-    error = np.where(np.isnan(error), np.inf, np.asarray(error))
-    pick = np.argmin(error, axis=-1)
-    q = np.take_along_axis(np.asarray(q), pick[..., None, None], axis=-2)[..., 0, :]
-    return q, np.take_along_axis(error, pick[..., None], axis=-1)[..., 0]
+    return np.asarray(q), np.where(np.isnan(error), np.inf, np.asarray(error))
 
 
-__all__ = ["DAMPING", "MAX_STEP", "reach", "starting_postures"]
+def best(
+    robot: MobileManipulator,
+    q: np.ndarray,
+    error: np.ndarray,
+    tolerance: float,
+    task: Task,
+    measure: str,
+    level: str,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One start of :func:`reach`'s per pair: among the starts that reach the target (error ≤
+    ``tolerance``), the one where the manipulability ``measure`` of the ``level`` Jacobian (``"arm"``: J_a,
+    ``"system"``: J̄ = J S) of ``task`` is highest; where none reaches it, the one of least error. Returns
+    (q (..., n_q), error (...,), score (...,): the measure there, NaN where not reached). Several starts often
+    reach a target in different postures (elbow up or down, another torso height): the measure, not the
+    round-off of their errors, decides between them."""
+    reached = error <= tolerance
+    rank = np.full(error.shape, np.nan)
+    if reached.any():
+        rank[reached] = np.asarray(mp.jacobian_and_measures(robot, q[reached], level, task)[1][measure])
+    chosen = np.where(
+        reached.any(axis=-1), np.argmax(np.where(reached, rank, -np.inf), axis=-1), np.argmin(error, axis=-1)
+    )
+    take = chosen[..., None]
+    return (
+        np.take_along_axis(q, take[..., None], axis=-2)[..., 0, :],
+        np.take_along_axis(error, take, axis=-1)[..., 0],
+        np.take_along_axis(rank, take, axis=-1)[..., 0],
+    )
+
+
+__all__ = ["DAMPING", "MAX_STEP", "best", "reach", "starting_postures"]
