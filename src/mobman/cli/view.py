@@ -47,6 +47,9 @@ def view_command(
     screenshot_path: Path | None = typer.Option(
         None, "--screenshot", help="Render one PNG headless (chromium) into this file and exit."
     ),
+    reachability: Path | None = typer.Option(
+        None, "--map", help="A reachability map's store (mobman map --store) to draw around the platform."
+    ),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     tip: list[str] | None = UrdfOption.tip,
     base: str | None = UrdfOption.base,
@@ -84,8 +87,23 @@ def view_command(
     if dynamic:
         # a results folder names its robot; a URDF file is read again for its inertials and effort limits
         dynamics = load_dynamics(robot.name if results_as_robot else robot_name, robot, "--dynamic", urdf)
+    study = None
+    if reachability is not None:
+        from mobman.studies import store
+        from mobman.studies.maps import from_study
+
+        try:
+            study = store.read(reachability)
+            drawn = from_study(study)
+        except InputError as exc:
+            raise InputError(f"--map: {exc}") from None
     viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
     try:
+        if study is not None:
+            try:
+                viewer.show_map(drawn, study.definition)
+            except InputError as exc:
+                raise InputError(f"--map: {exc}") from None
         if results is not None:
             viewer.load_results(results, motion)
         if configuration is not None:

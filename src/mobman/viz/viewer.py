@@ -12,6 +12,9 @@ J̄_p · diag(η_max) (eq. 23), scaled by one constant factor for the viewer's l
 show. Given a dynamic model, the dynamic ellipsoid of each tool's accelerations at rest is drawn too (Yamamoto &
 Yun 1999, eq. 27–38). A robot with several arms also gets the measures of each arm's J̄_p in the panel.
 
+A reachability map (:mod:`mobman.studies.maps`, :meth:`Viewer.show_map`) is drawn as a cloud of its reached
+cells' centres, coloured by their score, attached to the platform (the map's frame), so it moves with it.
+
 Links are drawn from the robot's :class:`~mobman.model.visual.Visual` shapes (URDF meshes, boxes, cylinders,
 spheres); a robot without them gets cylinders between successive joint origins, and a platform body and wheels
 from its dimensions. Importing this module needs the ``viewer`` extra (viser, trimesh).
@@ -43,6 +46,7 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.robots import ROBOTS, build
 from mobman.model.tasks import Position
 from mobman.model.visual import Visual
+from mobman.studies.maps import ReachabilityMap, robot_digest
 
 LINK_COLOR = (255, 140, 26)
 """Orange: the generated links (what a screenshot's robot pixels are looked for by)."""
@@ -436,6 +440,33 @@ class Viewer:
         self._build_motion_panel(labels)
         self._select(labels.index(motion) if motion is not None else 0)
         return labels
+
+    def show_map(
+        self, reachability: ReachabilityMap, definition: dict | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Draw the reached cells of a reachability map of this robot as points at their centres, attached to
+        the platform, coloured by their score from dark blue (the lowest) to yellow (the highest; matplotlib's
+        viridis). ``definition``: the map's study definition (:func:`mobman.studies.store.read`), checked to be
+        of this robot. Returns the points (N, 3, platform frame) and their colours (N, 3, 0–255)."""
+        from matplotlib import colormaps
+
+        if definition is not None and definition.get("robot_digest") != robot_digest(self.robot):
+            raise InputError(
+                f"the map was computed for another robot ({definition.get('robot')!r}) than "
+                f"{self.robot.name!r}"
+            )
+        points = reachability.centres()[reachability.reached]
+        score = reachability.score[reachability.reached]
+        span = float(np.ptp(score)) if score.size else 0.0
+        shade = (score - score.min()) / span if span > 0 else np.ones_like(score)
+        colors = np.round(255 * colormaps["viridis"](shade)[:, :3]).astype(np.uint8)
+        step = min((float(np.diff(a[:2])[0]) for a in reachability.axes if a.size > 1), default=0.05)
+        self._keep(
+            self.server.scene.add_point_cloud(
+                "/robot/platform/reachability", points, colors, point_size=0.6 * step, precision="float32"
+            )
+        )
+        return points, colors
 
     def set_time(self, t: float) -> None:
         """Show the loaded motion at the sample nearest to time ``t`` (as the time slider does)."""
