@@ -154,3 +154,22 @@ def test_a_point_s_cell_is_the_nearest_centre(planar):
     assert result.cell([0.52, -0.04, 0.0]) == (17, 12, 0)
     with pytest.raises(InputError, match="point must be 3 finite numbers"):
         result.cell([0.0, 0.0])
+
+
+def test_the_robot_digest_follows_the_kinematics_not_the_task_nor_the_visuals():
+    import dataclasses
+
+    from mobman.studies.maps import robot_digest
+
+    tiago = robots.build("tiago")
+    assert robot_digest(tiago) == robot_digest(tiago.with_task(Position("xy")))
+    assert robot_digest(tiago) == robot_digest(dataclasses.replace(tiago, platform_visuals=()))
+    bare = dataclasses.replace(
+        tiago,
+        arms=tuple(
+            dataclasses.replace(arm, joints=tuple(dataclasses.replace(j, visuals=()) for j in arm.joints))
+            for arm in tiago.arms
+        ),
+    )
+    assert robot_digest(bare) == robot_digest(tiago)  # mesh files lie where each machine installed them
+    assert robot_digest(robots.bayle_planar(l1=0.5)) != robot_digest(robots.bayle_planar(l1=0.6))

@@ -222,10 +222,24 @@ def from_study(study: studies.Study) -> ReachabilityMap:
 
 
 def robot_digest(robot: MobileManipulator) -> str:
-    """A short digest of the robot's description (its kinematics, limits and inertials, not its task): a
+    """A short digest of the robot's description: its platform, mounts and arms (kinematics, limits and
+    inertials), not its task nor its visual shapes (whose mesh files lie where a machine installed them). A
     store computed for another robot of the same name is refused."""
-    text = repr(dataclasses.replace(robot, task=Position("xyz")))
+    text = repr(_described((robot.platform, robot.mounts, robot.arms)))
     return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _described(value: Any) -> Any:
+    """``value`` as nested tuples of its dataclasses' fields, the visual shapes left out."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return (type(value).__name__,) + tuple(
+            (f.name, _described(getattr(value, f.name)))
+            for f in dataclasses.fields(value)
+            if f.name not in ("visuals", "platform_visuals")
+        )
+    if isinstance(value, (tuple, list)):
+        return tuple(_described(v) for v in value)
+    return value
 
 
 def _cells(
