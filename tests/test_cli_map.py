@@ -68,3 +68,38 @@ def test_bad_options_are_one_line_and_exit_status_2(cli_run, args, message):
     code, out, err = cli_run(["map", "bayle-planar", *args])
     assert code == 2, err
     assert message in err and err.count("\n") == 1 and out == ""
+
+
+def test_ctrl_c_keeps_the_store_s_chunks_says_so_and_the_same_command_resumes(cli_run, tmp_path, monkeypatch):
+    from mobman.studies import maps
+
+    store = tmp_path / "map.zarr"
+    args = ["map", "bayle-planar", *PLANE, "--store", str(store), "--chunk", "50", "--json"]
+    cells = maps._cells
+
+    def stopped_at_the_third_chunk(*arguments):
+        if arguments[-2] == 100:
+            raise KeyboardInterrupt
+        return cells(*arguments)
+
+    monkeypatch.setattr(maps, "_cells", stopped_at_the_third_chunk)
+    code, out, err = cli_run(args)
+    assert code == 130 and out == ""
+    assert err.strip() == (
+        f"interrupted: mobman map stopped; {store} keeps 100 of 169 rows: run the same command again to resume"
+    )
+    monkeypatch.setattr(maps, "_cells", cells)
+    code, out, err = cli_run(args)
+    assert code == 0, err
+    assert json.loads(out)["computed"] == 169
+
+
+def test_ctrl_c_without_a_store_removes_everything(cli_run, monkeypatch):
+    from mobman.studies import maps
+
+    def stopped(*arguments):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(maps, "_cells", stopped)
+    code, out, err = cli_run(["map", "bayle-planar", *PLANE])
+    assert code == 130 and err.strip() == "interrupted: mobman map stopped; partial output removed"

@@ -7,6 +7,7 @@ import contextlib
 import csv
 import os
 import shutil
+import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -16,7 +17,7 @@ import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
-from mobman.cli.app import NOT_REACHED
+from mobman.cli.app import INTERRUPTED, NOT_REACHED
 from mobman.errors import InputError
 from mobman.io.numbers import parse_number, parse_vector
 from mobman.io.spec import read_text
@@ -184,6 +185,26 @@ class StudyOption:
         "tcp://HOST:PORT (needs mobman[studies]).",
     )
     quiet = typer.Option(False, "--quiet", help="No progress bar.")
+
+
+@contextlib.contextmanager
+def resumable(command: str, store: Path | None) -> Iterator[None]:
+    """A study's run: interrupted (Ctrl-C) with a ``store``, one line saying what the store keeps and exit
+    status 130 (:data:`mobman.cli.app.INTERRUPTED`); the same command resumes it."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        if store is None:
+            raise
+        from mobman.studies.store import read
+
+        done = read(store).done
+        typer.echo(
+            f"interrupted: mobman {command} stopped; {store} keeps {int(done.sum()):,} of {done.size:,} rows: "
+            "run the same command again to resume",
+            err=True,
+        )
+        sys.exit(INTERRUPTED)  # SystemExit: past the command line library, which would report it again
 
 
 @contextlib.contextmanager

@@ -19,7 +19,15 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import StudyOption, UrdfOption, load_robot, not_reached, progress_bar, urdf_options
+from mobman.cli.common import (
+    StudyOption,
+    UrdfOption,
+    load_robot,
+    not_reached,
+    progress_bar,
+    resumable,
+    urdf_options,
+)
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
@@ -114,7 +122,7 @@ def map_command(
         raise InputError(f"--figure must name a .png file, got {str(figure)!r}")
     robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
     box = None if bounds is None else parse_vector(bounds, "--bounds", 6)
-    with progress_bar("mapping", not (quiet or json_output)) as bar:
+    with resumable("map", store), progress_bar("mapping", not (quiet or json_output)) as bar:
         try:
             result = reachability_map(
                 robot,

@@ -21,7 +21,7 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import StudyOption, not_reached, parse_params, progress_bar
+from mobman.cli.common import StudyOption, not_reached, parse_params, progress_bar, resumable
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_number, parse_vector
@@ -112,7 +112,7 @@ def sweep_command(
     if len(grid) != len(vary):
         raise InputError("--vary: a parameter is given twice")
     box = None if bounds is None else parse_vector(bounds, "--bounds", 6)
-    with progress_bar("sweeping", not (quiet or json_output)) as bar:
+    with resumable("sweep", store), progress_bar("sweeping", not (quiet or json_output)) as bar:
         try:
             result = sweep(
                 robot_name,
