@@ -330,27 +330,21 @@ def test_dynamic_ellipsoid_is_drawn_where_a_dynamic_model_exists():
     assert abs(drawn[1][0][0] - drawn[0][0][0]) > 0.01 * drawn[0][0][0]
 
 
-def test_a_reachability_map_is_drawn_on_the_platform_coloured_by_its_score(tmp_path):
-    from mobman.studies import store
+def test_a_reachability_map_is_drawn_on_the_platform_coloured_by_its_score():
     from mobman.studies.maps import reachability_map
 
     robot = robots.bayle_planar(l1=0.7, l2=0.4)
-    path = tmp_path / "map.zarr"
-    result = reachability_map(robot, bounds=[-1.2, 1.2, -1.2, 1.2, 0, 0], step=0.2, store=str(path))
+    result = reachability_map(robot, bounds=[-1.2, 1.2, -1.2, 1.2, 0, 0], step=0.2)
+    points, score = result.centres()[result.reached], result.score[result.reached]
     with Viewer(robot, port=0) as v:
-        points, colors = v.show_map(result, store.read(path).definition)
+        colors = v.show_map(points, score, 0.2)
         assert "/robot/platform/reachability" in v.nodes  # moves with the platform
-        np.testing.assert_allclose(points, result.centres()[result.reached])
-        # viridis: the darkest point at the lowest score, the brightest (yellow) at the highest
-        score = result.score[result.reached]
-        np.testing.assert_array_equal(
-            colors[score == score.min()], [[68, 1, 84]] * int(np.sum(score == score.min()))
-        )
-        np.testing.assert_array_equal(
-            colors[score == score.max()], [[253, 231, 37]] * int(np.sum(score == score.max()))
-        )
-        with pytest.raises(InputError, match="computed for another robot"):
-            v.show_map(result, {**store.read(path).definition, "robot_digest": "0"})
+        # viridis: dark blue at the lowest score, yellow at the highest
+        low, high = score == score.min(), score == score.max()
+        np.testing.assert_array_equal(colors[low], [[68, 1, 84]] * int(low.sum()))
+        np.testing.assert_array_equal(colors[high], [[253, 231, 37]] * int(high.sum()))
+        with pytest.raises(InputError, match="points must be"):
+            v.show_map(points[:, :2], score)
 
 
 def test_mobman_view_draws_a_map_store_and_refuses_another_robot_s(tmp_path, cli_run):

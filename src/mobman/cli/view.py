@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numpy as np
 import typer
 
 from mobman.cli.app import app
@@ -17,11 +18,32 @@ from mobman.cli.common import (
     urdf_options,
 )
 from mobman.errors import InputError
+from mobman.model.robot import MobileManipulator
 
 
 def _is_results(name: str) -> bool:
     path = Path(name)
     return path.is_dir() or (path.is_file() and path.suffix == ".json")
+
+
+def _map_of(robot: MobileManipulator, path: Path) -> tuple[np.ndarray, np.ndarray, float]:
+    """The reached cells' centres, their scores and the step of the reachability map in the store ``path``,
+    which must be one of ``robot``."""
+    from mobman.studies import store
+    from mobman.studies.maps import from_study, robot_digest
+
+    try:
+        study = store.read(path)
+        reachability = from_study(study)
+    except InputError as exc:
+        raise InputError(f"--map: {exc}") from None
+    if study.definition.get("robot_digest") != robot_digest(robot):
+        raise InputError(
+            f"--map: the map was computed for another robot ({study.definition.get('robot')!r}) than "
+            f"{robot.name!r}"
+        )
+    reached = reachability.reached
+    return reachability.centres()[reached], reachability.score[reached], float(study.definition["step"])
 
 
 @app.command("view")
@@ -87,23 +109,13 @@ def view_command(
     if dynamic:
         # a results folder names its robot; a URDF file is read again for its inertials and effort limits
         dynamics = load_dynamics(robot.name if results_as_robot else robot_name, robot, "--dynamic", urdf)
-    study = None
+    drawn = None
     if reachability is not None:
-        from mobman.studies import store
-        from mobman.studies.maps import from_study
-
-        try:
-            study = store.read(reachability)
-            drawn = from_study(study)
-        except InputError as exc:
-            raise InputError(f"--map: {exc}") from None
+        drawn = _map_of(robot, reachability)
     viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
     try:
-        if study is not None:
-            try:
-                viewer.show_map(drawn, study.definition)
-            except InputError as exc:
-                raise InputError(f"--map: {exc}") from None
+        if drawn is not None:
+            viewer.show_map(*drawn)
         if results is not None:
             viewer.load_results(results, motion)
         if configuration is not None:

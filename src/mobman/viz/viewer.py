@@ -46,7 +46,6 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.robots import ROBOTS, build
 from mobman.model.tasks import Position
 from mobman.model.visual import Visual
-from mobman.studies.maps import ReachabilityMap, robot_digest
 
 LINK_COLOR = (255, 140, 26)
 """Orange: the generated links (what a screenshot's robot pixels are looked for by)."""
@@ -441,32 +440,27 @@ class Viewer:
         self._select(labels.index(motion) if motion is not None else 0)
         return labels
 
-    def show_map(
-        self, reachability: ReachabilityMap, definition: dict | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Draw the reached cells of a reachability map of this robot as points at their centres, attached to
-        the platform, coloured by their score from dark blue (the lowest) to yellow (the highest; matplotlib's
-        viridis). ``definition``: the map's study definition (:func:`mobman.studies.store.read`), checked to be
-        of this robot. Returns the points (N, 3, platform frame) and their colours (N, 3, 0–255)."""
+    def show_map(self, points: npt.ArrayLike, score: npt.ArrayLike, size: float = 0.05) -> np.ndarray:
+        """Draw the reached cells of a reachability map (:mod:`mobman.studies.maps`) as points at their
+        centres ``points`` (N, 3, the platform frame) attached to the platform, coloured by their ``score``
+        (N,) from dark blue (the lowest) to yellow (the highest; matplotlib's viridis); ``size``: a point's
+        size (m), the map's step. Returns the colours (N, 3, 0–255)."""
         from matplotlib import colormaps
 
-        if definition is not None and definition.get("robot_digest") != robot_digest(self.robot):
+        points, score = np.asarray(points, dtype=float), np.asarray(score, dtype=float)
+        if points.ndim != 2 or points.shape[1] != 3 or score.shape != points.shape[:1]:
             raise InputError(
-                f"the map was computed for another robot ({definition.get('robot')!r}) than "
-                f"{self.robot.name!r}"
+                f"show_map: points must be (N, 3) and score (N,), got {points.shape}, {score.shape}"
             )
-        points = reachability.centres()[reachability.reached]
-        score = reachability.score[reachability.reached]
         span = float(np.ptp(score)) if score.size else 0.0
         shade = (score - score.min()) / span if span > 0 else np.ones_like(score)
         colors = np.round(255 * colormaps["viridis"](shade)[:, :3]).astype(np.uint8)
-        step = min((float(np.diff(a[:2])[0]) for a in reachability.axes if a.size > 1), default=0.05)
         self._keep(
             self.server.scene.add_point_cloud(
-                "/robot/platform/reachability", points, colors, point_size=0.6 * step, precision="float32"
+                "/robot/platform/reachability", points, colors, point_size=0.6 * size, precision="float32"
             )
         )
-        return points, colors
+        return colors
 
     def set_time(self, t: float) -> None:
         """Show the loaded motion at the sample nearest to time ``t`` (as the time slider does)."""
