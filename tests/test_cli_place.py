@@ -84,3 +84,26 @@ def test_bad_options_are_one_line_and_exit_2(capsys, options, field):
     code, _, err = _run(["place", "tiago", *options], capsys)
     lines = err.strip().splitlines()
     assert code == 2 and len(lines) == 1 and field in lines[0] and lines[0].startswith("error:")
+
+
+def test_a_map_s_cells_are_the_candidates(tmp_path, capsys):
+    store = tmp_path / "map.zarr"
+    code, _, err = _run(["map", "bayle-planar", "--step", "0.2", "--store", str(store), "--quiet"], capsys)
+    assert code == 0, err
+    code, out, err = _run(
+        ["place", "bayle-planar", "--target", "0.3,-0.4,0", "--map", str(store), "--json"], capsys
+    )
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["task"] == ["x_ee", "y_ee", "z_ee"] and report["reached"] == report["candidates"] > 0
+    assert report["best"]["score"] == pytest.approx(0.25, abs=0.02)  # l1 l2 at the elbow's right angle
+    for args, message in [
+        (["--radii", "1"], "--map: --radii do not apply with a map"),
+        (["--target", "0.3,-0.4"], "--target: expected 3 values, got 2"),
+        (["--param", "l1=0.6"], "--map: the map was computed for another robot"),
+    ]:
+        base = ["place", "bayle-planar", "--target", "0.3,-0.4,0", "--map", str(store)]
+        code, out, err = _run([*base, *args], capsys)
+        assert code == 2 and message in err and err.count("\n") == 1, err
+    code, _, err = _run(["place", "bayle-planar", "--target", "0.3,-0.4,2", "--map", str(store)], capsys)
+    assert code == 3 and "no reached cell of the map lies within half a step of the target's height" in err

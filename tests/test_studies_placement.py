@@ -155,3 +155,52 @@ def test_a_task_singular_at_every_posture_reaches_nothing_and_says_so():
     assert np.all(result.error == np.inf) and not result.reached.any() and result.best is None
     np.testing.assert_array_equal(result.score, 0.0)
     assert len(result.ranking()) == 0
+
+
+def test_a_planar_map_places_the_base_anywhere_in_the_annulus_with_the_closed_form_score():
+    from mobman.studies.maps import reachability_map
+    from mobman.studies.placement import place_with_map
+
+    l1, l2 = 0.7, 0.4
+    robot = robots.bayle_planar(l1=l1, l2=l2)
+    reachability = reachability_map(robot, bounds=[-1.2, 1.2, -1.2, 1.2, 0, 0], step=0.1, starts=4)
+    target = np.array([0.3, -0.4, 0.0])
+    result = place_with_map(robot, reachability, target, headings=8)
+    assert len(result.bases) == 8 * reachability.reached.sum() and result.reached.all()
+    # the shoulder (the platform's reference point) lies in the annulus around the target
+    distance = np.linalg.norm(result.bases[:, :2] - target[:2], axis=1)
+    assert np.all((distance >= l1 - l2 - 1e-9) & (distance <= l1 + l2 + 1e-9))
+    tool = np.asarray(K.forward(robot, result.q, Position("xyz")))
+    assert np.abs(tool - target).max() <= 1e-6
+    np.testing.assert_allclose(result.score, l1 * l2 * np.abs(np.sin(result.q[:, 4])), atol=1e-12)
+    assert result.score[result.best] == pytest.approx(l1 * l2, abs=2e-3)
+
+
+def test_tiago_s_map_places_bases_whose_postures_reach_the_target_by_pinocchio():
+    from mobman.studies.maps import reachability_map
+    from mobman.studies.placement import place_with_map
+
+    robot = robots.build("tiago")
+    reachability = reachability_map(robot, bounds=[0.0, 0.9, -0.9, 0.3, 0.7, 0.9], step=0.1)
+    target = np.array([1.0, 0.5, 0.83])  # between two layers of the map: its postures are refined
+    result = place_with_map(robot, reachability, target, headings=4)
+    assert result.reached.mean() >= 0.9
+    reached = result.q[result.reached]
+    assert not robot.limit_violations(reached).any()
+    np.testing.assert_allclose(reached[:, :3], result.bases[result.reached], atol=0)
+    assert np.abs(pinocchio_tool_positions(robot, reached) - target).max() <= 1e-6
+    grid = place(robot, target, radii=[0.4, 0.7], bearings=4, headings=4)
+    assert result.score[result.best] >= grid.score[grid.best]  # far more candidates, each from a scored cell
+
+
+def test_a_map_of_another_robot_or_no_cell_at_the_target_s_height():
+    from mobman.studies.maps import reachability_map
+    from mobman.studies.placement import place_with_map
+
+    reachability = reachability_map(robots.bayle_planar(), step=0.2)
+    with pytest.raises(InputError, match="computed for another robot"):
+        place_with_map(robots.bayle_planar(l1=0.6), reachability, [0.5, 0.0, 0.0])
+    with pytest.raises(InputError, match="target must be 3 numbers"):
+        place_with_map(robots.bayle_planar(), reachability, [0.5, 0.0])
+    nothing = place_with_map(robots.bayle_planar(), reachability, [0.5, 0.0, 1.0])
+    assert len(nothing.bases) == 0 and nothing.best is None

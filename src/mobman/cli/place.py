@@ -8,6 +8,7 @@ status 3 when no base reaches it (the candidates are still printed).
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -21,7 +22,9 @@ from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
 from mobman.manipulability import MEASURES
-from mobman.studies.placement import LEVELS, Placement, place
+from mobman.model.tasks import Position
+from mobman.studies.maps import ReachabilityMap
+from mobman.studies.placement import LEVELS, Placement, place, place_with_map
 
 
 def _entry(result: Placement, k: int) -> dict[str, Any]:
@@ -33,7 +36,7 @@ def _entry(result: Placement, k: int) -> dict[str, Any]:
     }
 
 
-OPTIONS = ("radii", "bearings", "headings", "starts", "iterations", "tolerance", "measure", "level")
+OPTIONS = ("radii", "bearings", "headings", "starts", "iterations", "tolerance", "measure", "level", "target")
 """The keyword arguments of :func:`mobman.studies.placement.place` that are options of the command."""
 
 
@@ -41,6 +44,8 @@ def _as_option(message: str) -> str:
     """``place``'s message about a keyword argument (``"bearings must be …"``) as one about its option
     (``"--bearings must be …"``)."""
     keyword = message.split(" ", 1)[0]
+    if keyword == "reachability:":
+        return "--map:" + message[len(keyword) :]
     return f"--{message}" if keyword in OPTIONS else message
 
 
@@ -58,16 +63,30 @@ def place_command(
         "--radii",
         help="Distances of the bases from the centre, e.g. 0.4,0.6,0.8 (default: 8 up to the reach).",
     ),
-    bearings: int = typer.Option(16, "--bearings", help="Directions around the centre (≥ 1)."),
+    bearings: int | None = typer.Option(None, "--bearings", help="Directions around the centre (≥ 1; 16)."),
     headings: int = typer.Option(16, "--headings", help="Platform headings over [−π, π) (≥ 1)."),
-    starts: int = typer.Option(4, "--starts", help="Starting postures of the arm per base (≥ 1)."),
-    iterations: int = typer.Option(60, "--iterations", help="Damped least-squares steps per start (≥ 1)."),
+    starts: int | None = typer.Option(
+        None, "--starts", help="Starting postures of the arm per base (≥ 1; 4)."
+    ),
+    iterations: int | None = typer.Option(
+        None,
+        "--iterations",
+        help="Damped least-squares steps per start (≥ 1; 60, or 20 from a --map's postures).",
+    ),
     tolerance: float = typer.Option(
         1e-6, "--tolerance", help="Largest task error of a reached target (> 0)."
     ),
-    measure: str = typer.Option("yoshikawa", "--measure", help=f"one of {', '.join(MEASURES)}"),
-    level: str = typer.Option(
-        "arm", "--level", help=f"one of {', '.join(LEVELS)}: J_a (platform parked) or J̄ = J S."
+    measure: str | None = typer.Option(
+        None, "--measure", help=f"one of {', '.join(MEASURES)} (default yoshikawa)"
+    ),
+    level: str | None = typer.Option(
+        None, "--level", help=f"one of {', '.join(LEVELS)}: J_a (platform parked, the default) or J̄ = J S."
+    ),
+    reachability: Path | None = typer.Option(
+        None,
+        "--map",
+        help="A reachability map's store (mobman map --store) whose cells give the candidate bases for a point "
+        "target x,y,z (inverse reachability), scored by its measure.",
     ),
     top: int = typer.Option(5, "--top", help="Bases listed, best first (≥ 1)."),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
@@ -82,30 +101,41 @@ def place_command(
     if top < 1:
         raise InputError(f"--top must be ≥ 1, got {top}")
     robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
+    grid = {
+        "centre": None if centre is None else parse_vector(centre, "--centre", 2),
+        "radii": None if radii is None else parse_vector(radii, "--radii"),
+        "bearings": bearings,
+        "starts": starts,
+        "measure": measure,
+        "level": level,
+    }
+    given: dict[str, Any] = {name: value for name, value in grid.items() if value is not None}
+    solver: dict[str, Any] = {"headings": headings, "tolerance": tolerance}
+    if iterations is not None:
+        solver["iterations"] = iterations
     try:
-        result = place(
-            robot,
-            parse_vector(target, "--target", robot.task.dim),
-            centre=None if centre is None else parse_vector(centre, "--centre", 2),
-            radii=None if radii is None else parse_vector(radii, "--radii"),
-            bearings=bearings,
-            headings=headings,
-            starts=starts,
-            iterations=iterations,
-            tolerance=tolerance,
-            measure=measure,
-            level=level,
-        )
+        if reachability is None:
+            task = robot.task
+            result = place(robot, parse_vector(target, "--target", task.dim), **given, **solver)
+        else:
+            if given:
+                raise InputError(
+                    f"--map: {', '.join('--' + name for name in given)} do not apply with a map (its cells are "
+                    "the candidates, its measure and level score them)"
+                )
+            reached = _map(reachability)
+            task = Position("xyz", arm=reached.arm)
+            result = place_with_map(robot, reached, parse_vector(target, "--target", 3), **solver)
     except InputError as exc:
         raise InputError(_as_option(str(exc))) from None
     ranking = [_entry(result, int(k)) for k in result.ranking(top)]
     report = {
         "robot": robot_name,
         "coordinates": list(robot.coordinate_names),
-        "task": list(robot.task.names),
+        "task": list(task.names),
         "target": result.target,
-        "measure": measure,
-        "level": level,
+        "measure": result.measure,
+        "level": result.level,
         "tolerance": tolerance,
         "candidates": int(result.bases.shape[0]),
         "reached": int(result.reached.sum()),
@@ -116,13 +146,29 @@ def place_command(
         typer.echo(dump_json(report))
     else:
         _print(report, robot_name, robot.n_platform)
+    if not ranking and not report["candidates"]:
+        not_reached("place", "no reached cell of the map lies within half a step of the target's height")
     if not ranking:
         closest = float(np.min(result.error))
+        advice = (
+            "a map over more of the space" if reachability is not None else "other --radii or more --starts"
+        )
         not_reached(
             "place",
             f"no base of the {report['candidates']} reaches the target (closest error {closest:.3e}); try "
-            "other --radii or more --starts",
+            f"{advice}",
         )
+
+
+def _map(path: Path) -> ReachabilityMap:
+    """The reachability map in the store ``path``."""
+    from mobman.studies import store
+    from mobman.studies.maps import from_study
+
+    try:
+        return from_study(store.read(path))
+    except InputError as exc:
+        raise InputError(f"--map: {exc}") from None
 
 
 def _print(report: dict, robot_name: str, n_platform: int) -> None:

@@ -51,7 +51,9 @@ class ReachabilityMap:
     per cell, shape ``(len(x), len(y), len(z))``: ``reached``, ``error`` (the distance from the tool to the
     centre at the posture found; NaN where not computed), ``score`` (the measure there; NaN where not
     reached) and ``q`` (…, n_q: the posture, the platform's coordinates 0; NaN where not computed), and
-    ``computed`` (False for cells of an unfinished study read back from its store)."""
+    ``computed`` (False for cells of an unfinished study read back from its store). ``arm``: whose tool;
+    ``scored``: the tool's coordinates the measure's rows are (the axes it moves along); ``digest``:
+    :func:`robot_digest` of the robot it was computed for."""
 
     axes: tuple[np.ndarray, np.ndarray, np.ndarray]
     reached: np.ndarray
@@ -62,6 +64,9 @@ class ReachabilityMap:
     measure: str
     level: str
     tolerance: float
+    arm: int = 0
+    scored: str = "xyz"
+    digest: str = ""
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -218,6 +223,9 @@ def from_study(study: studies.Study) -> ReachabilityMap:
         measure=d["measure"],
         level=d["level"],
         tolerance=float(d["tolerance"]),
+        arm=int(d["arm"]),
+        scored=d["scored"],
+        digest=d["robot_digest"],
     )
 
 

@@ -27,8 +27,12 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Position, Task
 from mobman.redundancy import sample_configurations
 from mobman.studies import options
+from mobman.studies.maps import ReachabilityMap, robot_digest
 from mobman.studies.options import LEVELS
 from mobman.studies.reaching import best, reach, starting_postures
+
+BUCKET = 512
+"""The candidate bases of :func:`place_with_map` are solved in whole multiples of this many rows."""
 
 REACH_SAMPLES = 4096
 """Random postures :func:`reach_radius` measures the arm's reach on."""
@@ -185,8 +189,83 @@ def place(
         level=level,
         tolerance=float(tolerance),
         n_platform=robot.n_platform,
-        revolute=tuple(j.kind == "revolute" for arm in robot.arms for j in arm.joints),
+        revolute=_revolute(robot),
     )
+
+
+def place_with_map(
+    robot: MobileManipulator,
+    reachability: ReachabilityMap,
+    target: npt.ArrayLike,
+    *,
+    headings: int = 16,
+    iterations: int = 20,
+    tolerance: float = 1e-6,
+) -> Placement:
+    """Base placement from a reachability map of the robot's arm (:mod:`mobman.studies.maps`): inverse
+    reachability (Vahrenkamp, Asfour, Dillmann, ICRA 2013).
+
+    A reached cell c of the map (platform frame) with the platform at heading θ puts the tool at
+    b + R(θ) c for a platform at b, so every cell within half a step of the target's height and each of
+    ``headings`` headings over a turn give the candidate base (x, y) = p − R(θ) c, θ, from which the cell's
+    posture holds the tool at the target up to the cell's height. From that posture ``iterations`` damped
+    least-squares steps within the joint limits (:mod:`mobman.studies.reaching`) take the tool onto the
+    target ``p`` (x, y, z); a base reaches it within ``tolerance``. Bases are scored by the map's measure and
+    level. No inverse kinematics from random starts: a map computed once serves any number of targets.
+    """
+    if reachability.digest != robot_digest(robot):
+        raise InputError(f"reachability: the map was computed for another robot than {robot.name!r}")
+    target = _vector(target, "target", 3, "x, y, z")
+    headings, iterations = options.count(headings, "headings"), options.count(iterations, "iterations")
+    if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
+        raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
+    steps = [float(a[1] - a[0]) for a in reachability.axes if a.size > 1]
+    half = 0.5 * min(steps, default=0.0) + 1e-9
+    centres = reachability.centres()
+    near = reachability.reached & (np.abs(centres[..., 2] - target[2]) <= half)
+    cells, postures = centres[near], reachability.q[near]
+    theta = 2.0 * np.pi * np.arange(headings) / headings - np.pi
+    c, s = np.cos(theta)[None, :], np.sin(theta)[None, :]
+    x = target[0] - (c * cells[:, :1] - s * cells[:, 1:2])
+    y = target[1] - (s * cells[:, :1] + c * cells[:, 1:2])
+    bases = np.stack([x, y, np.broadcast_to(theta, x.shape)], axis=-1).reshape(-1, 3)
+    starts = np.repeat(postures[:, robot.n_platform :], headings, axis=0)[:, None, :]
+    task = Position("xyz", arm=reachability.arm)
+    # the candidates padded to a whole number of BUCKET rows: targets at other heights have other counts,
+    # and each count would compile the solver again (seconds) for a query that takes a fraction of one
+    n = len(bases)
+    rows = np.minimum(np.arange(-(-n // BUCKET) * BUCKET), max(n - 1, 0))
+    q, error = reach(robot, bases[rows], target, starts[rows], task, iterations) if n else _nothing(robot)
+    q, error, score = (
+        x[:n] for x in best(
+            robot, q, error, tolerance, Position(reachability.scored, arm=reachability.arm),
+            reachability.measure, reachability.level,
+        )
+    )  # fmt: skip
+    reached = error <= tolerance
+    return Placement(
+        target=target,
+        bases=bases,
+        q=q,
+        error=error,
+        reached=reached,
+        score=np.where(reached, score, 0.0),
+        measure=reachability.measure,
+        level=reachability.level,
+        tolerance=float(tolerance),
+        n_platform=robot.n_platform,
+        revolute=_revolute(robot),
+    )
+
+
+def _revolute(robot: MobileManipulator) -> tuple[bool, ...]:
+    """Which of the arms' coordinates are angles of revolute joints."""
+    return tuple(j.kind == "revolute" for arm in robot.arms for j in arm.joints)
+
+
+def _nothing(robot: MobileManipulator) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`reach`'s result for no candidate at all."""
+    return np.zeros((0, 1, robot.n_q)), np.zeros((0, 1))
 
 
 def _vector(value: npt.ArrayLike, name: str, size: int, names: str) -> np.ndarray:
@@ -224,10 +303,12 @@ def _centre(task: Task, target: np.ndarray) -> np.ndarray:
 
 
 __all__ = [
+    "BUCKET",
     "LEVELS",
     "Placement",
     "candidate_bases",
     "place",
+    "place_with_map",
     "reach_radius",
     "REACH_MARGIN",
     "REACH_SAMPLES",

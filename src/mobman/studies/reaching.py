@@ -121,9 +121,10 @@ def best(
     reach a target in different postures (elbow up or down, another torso height): the measure, not the
     round-off of their errors, decides between them."""
     reached = error <= tolerance
-    rank = np.full(error.shape, np.nan)
-    if reached.any():
-        rank[reached] = np.asarray(mp.jacobian_and_measures(robot, q[reached], level, task)[1][measure])
+    # every start's measure, kept where it reaches: one array shape for any number of reached starts, so
+    # that the measures' program compiles once per shape of the problem, not once per count reached
+    measured = np.asarray(mp.jacobian_and_measures(robot, np.nan_to_num(q), level, task)[1][measure])
+    rank = np.where(reached, measured, np.nan)
     chosen = np.where(
         reached.any(axis=-1), np.argmax(np.where(reached, rank, -np.inf), axis=-1), np.argmin(error, axis=-1)
     )
