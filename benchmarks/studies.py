@@ -39,8 +39,9 @@ AGREEMENT = 1e-9
 """Largest miss (m, beyond the tolerance) and difference of w (Pinocchio's against the map's) accepted."""
 
 
-def pinocchio_cells(robot, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(reached, w) of each centre by the same solver, one cell and one step at a time with Pinocchio."""
+def pinocchio_tool(robot):
+    """Pinocchio's TIAGo (:func:`real_robots.pinocchio_model`) as a function of the arm's coordinates, the
+    platform at the origin with heading 0: q_a → (the tool's position, its 3 × n_a position Jacobian)."""
     import pinocchio as pin
 
     model = pinocchio_model(robot)
@@ -48,16 +49,23 @@ def pinocchio_cells(robot, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     frame = model.getFrameId(REAL_ROBOTS["tiago"].tips[0])
     joints = [model.getJointId(j.name) for arm in robot.arms for j in arm.joints]
     rows, columns = [model.idx_qs[j] for j in joints], [model.idx_vs[j] for j in joints]
-    lower, upper = np.array(robot.position_limits[3:]).T
-    starts = starting_postures(robot, STARTS)
     q_pin = pin.neutral(model)
-    q_pin[:4] = 0.0, 0.0, 1.0, 0.0  # the platform at the origin, heading 0
+    q_pin[:4] = 0.0, 0.0, 1.0, 0.0
 
     def tool_and_jacobian(q_a):
         q_pin[rows] = q_a
         pin.framesForwardKinematics(model, data, q_pin)
         jac = pin.computeFrameJacobian(model, data, q_pin, frame, pin.LOCAL_WORLD_ALIGNED)
         return data.oMf[frame].translation.copy(), jac[:3, columns]
+
+    return tool_and_jacobian
+
+
+def pinocchio_cells(robot, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(reached, w) of each centre by the same solver, one cell and one step at a time with Pinocchio."""
+    tool_and_jacobian = pinocchio_tool(robot)
+    lower, upper = np.array(robot.position_limits[3:]).T
+    starts = starting_postures(robot, STARTS)
 
     def solve(j, e):
         return j.T @ np.linalg.solve(j @ j.T + DAMPING**2 * np.eye(3), e)
@@ -85,28 +93,16 @@ def pinocchio_cells(robot, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 
 def check_with_pinocchio(robot, result) -> float:
-    """The largest distance of the tool from its cell's centre and difference of w from the map's score, at
-    every reached cell's posture, by Pinocchio's forward kinematics and frame Jacobian."""
-    import pinocchio as pin
-
-    model = pinocchio_model(robot)
-    data = model.createData()
-    frame = model.getFrameId(REAL_ROBOTS["tiago"].tips[0])
-    joints = [model.getJointId(j.name) for arm in robot.arms for j in arm.joints]
-    rows, columns = [model.idx_qs[j] for j in joints], [model.idx_vs[j] for j in joints]
+    """The largest distance of the tool from its cell's centre (beyond the tolerance) and difference of w
+    from the map's score, at every reached cell's posture, by Pinocchio."""
+    tool_and_jacobian = pinocchio_tool(robot)
     worst = 0.0
     for q, centre, w in zip(
         result.q[result.reached], result.centres()[result.reached], result.score[result.reached]
     ):
-        q_pin = pin.neutral(model)
-        q_pin[:4] = 0.0, 0.0, 1.0, 0.0
-        q_pin[rows] = q[3:]
-        pin.framesForwardKinematics(model, data, q_pin)
-        j = pin.computeFrameJacobian(model, data, q_pin, frame, pin.LOCAL_WORLD_ALIGNED)[:3, columns]
-        miss = np.linalg.norm(data.oMf[frame].translation - centre)
-        worst = max(
-            worst, miss - TOLERANCE if miss > TOLERANCE else 0.0, abs(np.sqrt(np.linalg.det(j @ j.T)) - w)
-        )
+        tool, j = tool_and_jacobian(q[3:])
+        miss = max(np.linalg.norm(tool - centre) - TOLERANCE, 0.0)
+        worst = max(worst, miss, abs(np.sqrt(np.linalg.det(j @ j.T)) - w))
     return worst
 
 
