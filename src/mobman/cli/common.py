@@ -27,6 +27,7 @@ from mobman.model.robots import build, command_name
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
+    from mobman.studies.maps import ReachabilityMap
 
 
 def parse_params(items: list[str] | None, option: str = "--param") -> dict[str, float]:
@@ -185,6 +186,25 @@ class StudyOption:
         "tcp://HOST:PORT (needs mobman[studies]).",
     )
     quiet = typer.Option(False, "--quiet", help="No progress bar.")
+
+
+def load_map(path: Path, robot: MobileManipulator) -> "ReachabilityMap":
+    """The reachability map in the store ``path`` (``mobman map --store``), which must be one of ``robot``;
+    errors name ``--map``."""
+    from mobman.studies import store
+    from mobman.studies.maps import from_study, robot_digest
+
+    try:
+        study = store.read(path)
+        reachability = from_study(study)
+    except InputError as exc:
+        raise InputError(f"--map: {exc}") from None
+    if reachability.digest != robot_digest(robot):
+        raise InputError(
+            f"--map: the map was computed for another robot ({study.definition.get('robot')!r}) than "
+            f"{robot.name!r}"
+        )
+    return reachability
 
 
 @contextlib.contextmanager

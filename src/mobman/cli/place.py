@@ -17,13 +17,12 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import UrdfOption, load_robot, not_reached, urdf_options
+from mobman.cli.common import UrdfOption, load_map, load_robot, not_reached, urdf_options
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
 from mobman.manipulability import MEASURES
 from mobman.model.tasks import Position
-from mobman.studies.maps import ReachabilityMap
 from mobman.studies.placement import LEVELS, Placement, place, place_with_map
 
 
@@ -123,7 +122,7 @@ def place_command(
                     f"--map: {', '.join('--' + name for name in given)} do not apply with a map (its cells are "
                     "the candidates, its measure and level score them)"
                 )
-            reached = _map(reachability)
+            reached = load_map(reachability, robot)
             task = Position("xyz", arm=reached.arm)
             result = place_with_map(robot, reached, parse_vector(target, "--target", 3), **solver)
     except InputError as exc:
@@ -158,17 +157,6 @@ def place_command(
             f"no base of the {report['candidates']} reaches the target (closest error {closest:.3e}); try "
             f"{advice}",
         )
-
-
-def _map(path: Path) -> ReachabilityMap:
-    """The reachability map in the store ``path``."""
-    from mobman.studies import store
-    from mobman.studies.maps import from_study
-
-    try:
-        return from_study(store.read(path))
-    except InputError as exc:
-        raise InputError(f"--map: {exc}") from None
 
 
 def _print(report: dict, robot_name: str, n_platform: int) -> None:

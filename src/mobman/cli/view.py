@@ -5,45 +5,24 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-import numpy as np
 import typer
 
 from mobman.cli.app import app
 from mobman.cli.common import (
     UrdfOption,
     load_dynamics,
+    load_map,
     load_robot,
     parse_vector,
     refuse_urdf_options,
     urdf_options,
 )
 from mobman.errors import InputError
-from mobman.model.robot import MobileManipulator
 
 
 def _is_results(name: str) -> bool:
     path = Path(name)
     return path.is_dir() or (path.is_file() and path.suffix == ".json")
-
-
-def _map_of(robot: MobileManipulator, path: Path) -> tuple[np.ndarray, np.ndarray, float]:
-    """The reached cells' centres, their scores and the step of the reachability map in the store ``path``,
-    which must be one of ``robot``."""
-    from mobman.studies import store
-    from mobman.studies.maps import from_study, robot_digest
-
-    try:
-        study = store.read(path)
-        reachability = from_study(study)
-    except InputError as exc:
-        raise InputError(f"--map: {exc}") from None
-    if study.definition.get("robot_digest") != robot_digest(robot):
-        raise InputError(
-            f"--map: the map was computed for another robot ({study.definition.get('robot')!r}) than "
-            f"{robot.name!r}"
-        )
-    reached = reachability.reached
-    return reachability.centres()[reached], reachability.score[reached], float(study.definition["step"])
 
 
 @app.command("view")
@@ -111,11 +90,11 @@ def view_command(
         dynamics = load_dynamics(robot.name if results_as_robot else robot_name, robot, "--dynamic", urdf)
     drawn = None
     if reachability is not None:
-        drawn = _map_of(robot, reachability)
+        drawn = load_map(reachability, robot)
     viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
     try:
         if drawn is not None:
-            viewer.show_map(*drawn)
+            viewer.show_map(drawn.centres()[drawn.reached], drawn.score[drawn.reached], drawn.step)
         if results is not None:
             viewer.load_results(results, motion)
         if configuration is not None:

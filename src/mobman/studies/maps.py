@@ -53,7 +53,7 @@ class ReachabilityMap:
     reached) and ``q`` (…, n_q: the posture, the platform's coordinates 0; NaN where not computed), and
     ``computed`` (False for cells of an unfinished study read back from its store). ``arm``: whose tool;
     ``scored``: the tool's coordinates the measure's rows are (the axes it moves along); ``digest``:
-    :func:`robot_digest` of the robot it was computed for."""
+    :func:`robot_digest` of the robot it was computed for; ``step``: the distance between cell centres (m)."""
 
     axes: tuple[np.ndarray, np.ndarray, np.ndarray]
     reached: np.ndarray
@@ -67,6 +67,7 @@ class ReachabilityMap:
     arm: int = 0
     scored: str = "xyz"
     digest: str = ""
+    step: float = 0.0
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -226,6 +227,7 @@ def from_study(study: studies.Study) -> ReachabilityMap:
         arm=int(d["arm"]),
         scored=d["scored"],
         digest=d["robot_digest"],
+        step=float(d["step"]),
     )
 
 

@@ -168,8 +168,7 @@ def place(
     for name, value in (("bearings", bearings), ("headings", headings), ("starts", starts)):
         options.count(value, name)
     options.count(iterations, "iterations")
-    if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
-        raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
+    _check_tolerance(tolerance)
     options.scoring(measure, level)
     bases = candidate_bases(centre, radii, bearings, headings)
     q, error, score = best(
@@ -217,10 +216,8 @@ def place_with_map(
         raise InputError(f"reachability: the map was computed for another robot than {robot.name!r}")
     target = _vector(target, "target", 3, "x, y, z")
     headings, iterations = options.count(headings, "headings"), options.count(iterations, "iterations")
-    if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
-        raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
-    steps = [float(a[1] - a[0]) for a in reachability.axes if a.size > 1]
-    half = 0.5 * min(steps, default=0.0) + 1e-9
+    _check_tolerance(tolerance)
+    half = 0.5 * reachability.step + 1e-9
     centres = reachability.centres()
     near = reachability.reached & (np.abs(centres[..., 2] - target[2]) <= half)
     cells, postures = centres[near], reachability.q[near]
@@ -256,6 +253,11 @@ def place_with_map(
         n_platform=robot.n_platform,
         revolute=_revolute(robot),
     )
+
+
+def _check_tolerance(tolerance: object) -> None:
+    if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
+        raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
 
 
 def _revolute(robot: MobileManipulator) -> tuple[bool, ...]:
