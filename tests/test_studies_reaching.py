@@ -17,20 +17,21 @@ from tiago_urdf import pinocchio_tool_positions
 TASK = Position("xyz")
 
 
+def _solved(robot, base, targets, starts: int, iterations: int, tolerance: float):
+    """reach() from ``starts`` postures, the best start of each target kept (w of J_a)."""
+    every = reach(
+        robot, np.asarray(base, dtype=float), targets, starting_postures(robot, starts), TASK, iterations
+    )
+    return best(robot, *every, tolerance, TASK, "yoshikawa", "arm")
+
+
 def test_the_planar_2r_arm_reaches_its_annulus_in_the_closed_form_elbow_angle():
     l1, l2 = 0.7, 0.4
     robot = robots.bayle_planar(l1=l1, l2=l2)
     d = np.array([0.2, 0.3, 0.3 + 1e-9, 0.5, 0.8, 1.1 - 1e-9, 1.1, 1.2])
     angle = np.linspace(-np.pi, np.pi, d.size)  # directions over the whole turn, ±π included
     targets = np.stack([d * np.cos(angle), d * np.sin(angle), np.zeros_like(d)], axis=-1)
-    q, error, _ = best(
-        robot,
-        *reach(robot, np.zeros(3), targets, starting_postures(robot, 4), TASK, 100),
-        1e-6,
-        TASK,
-        "yoshikawa",
-        "arm",
-    )
+    q, error, _ = _solved(robot, np.zeros(3), targets, 4, 100, 1e-6)
     inside = (d >= l1 - l2) & (d <= l1 + l2)
     assert list(error <= 1e-6) == list(inside)
     # law of cosines: cos q5 = (d² − l1² − l2²) / (2 l1 l2)
@@ -46,14 +47,7 @@ def test_tiago_reaches_the_tool_positions_of_its_own_postures_by_pinocchio_withi
     q = sample_configurations(robot, 200, seed=11)
     q[:, :3] = 0.0
     targets = np.asarray(K.forward(robot, q, TASK))
-    found, error, _ = best(
-        robot,
-        *reach(robot, np.zeros(3), targets, starting_postures(robot, 8), TASK, 60),
-        1e-9,
-        TASK,
-        "yoshikawa",
-        "arm",
-    )
+    found, error, _ = _solved(robot, np.zeros(3), targets, 8, 60, 1e-9)
     reached = error <= 1e-9
     assert reached.mean() >= 0.99  # a local method: a few targets need more starts
     assert not robot.limit_violations(found).any()
@@ -78,14 +72,7 @@ def test_a_target_moves_with_the_platform(base):
     q = sample_configurations(robot, 20, seed=3)
     q[:, :3] = base
     targets = np.asarray(K.forward(robot, q, TASK))
-    found, error, _ = best(
-        robot,
-        *reach(robot, np.asarray(base), targets, starting_postures(robot, 8), TASK, 60),
-        1e-9,
-        TASK,
-        "yoshikawa",
-        "arm",
-    )
+    found, error, _ = _solved(robot, base, targets, 8, 60, 1e-9)
     assert error.max() <= 1e-9
     np.testing.assert_array_equal(found[:, :3], np.broadcast_to(base, (20, 3)))
 
@@ -104,12 +91,5 @@ def test_of_the_starts_that_reach_a_target_the_one_of_highest_manipulability_is_
     np.testing.assert_allclose(score, np.where(reached, w, -np.inf).max(axis=1), rtol=1e-10)
     assert np.all(w[reached].max() >= score)
     # where no start reaches the target, the closest start is kept and its score is NaN
-    far, far_error, far_score = best(
-        robot,
-        *reach(robot, np.zeros(3), [[5.0, 0, 1]], starting_postures(robot, 3), TASK, 10),
-        1e-9,
-        TASK,
-        "yoshikawa",
-        "arm",
-    )
+    far, far_error, far_score = _solved(robot, np.zeros(3), [[5.0, 0, 1]], 3, 10, 1e-9)
     assert np.isnan(far_score).all() and far_error[0] > 3.0 and far.shape == (1, robot.n_q)
