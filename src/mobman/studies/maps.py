@@ -113,6 +113,12 @@ def moving_axes(tool: np.ndarray) -> np.ndarray:
     return high - low > 1e-9 * np.maximum(1.0, np.abs(high))
 
 
+def scored_task(tool: np.ndarray, arm: int) -> Position:
+    """The tool's position along the axes it moves (:func:`moving_axes` of ``tool``): the rows a posture's
+    measure is taken of (a planar arm's constant z would make w zero)."""
+    return Position("".join(c for c, m in zip("xyz", moving_axes(tool)) if m), arm=arm)
+
+
 def default_bounds(tool: np.ndarray, step: float) -> np.ndarray:
     """Bounds (3, 2) of the tool positions ``tool`` (:func:`tool_positions`), widened to whole steps and one
     more on each side (postures at the corners of the limits are rare among random ones). An axis the tool
@@ -173,8 +179,7 @@ def reachability_map(
             "give a larger step or smaller bounds"
         )
     task = Position("xyz", arm=arm)
-    # the measure's rows: the directions the tool moves along (a planar arm's constant z would make w zero)
-    scored = Position("".join(c for c, m in zip("xyz", moving_axes(tool)) if m), arm=arm)
+    scored = scored_task(tool, int(arm))
     columns = {
         "reached": studies.Column((), "bool", False),
         "error": studies.Column(),
@@ -313,5 +318,6 @@ __all__ = [
     "parse_bounds",
     "reachability_map",
     "robot_digest",
+    "scored_task",
     "tool_positions",
 ]

@@ -38,7 +38,6 @@ from mobman import manipulability as mp
 from mobman.errors import InputError, MobmanError
 from mobman.model import robots
 from mobman.model.robot import MobileManipulator
-from mobman.model.tasks import Position
 from mobman.redundancy import sample_configurations
 from mobman.studies import maps, options
 from mobman.studies import store as studies
@@ -133,7 +132,7 @@ def sweep(
     designs = math.prod(shape)
     if designs > MAX_DESIGNS:
         raise InputError(f"{designs:,} designs ({' × '.join(map(str, shape))}), more than {MAX_DESIGNS:,}")
-    metrics = list(STATISTICS) + ["reach"] + (["coverage"] if box is not None else [])
+    metrics = _metrics(box is not None)
     columns = {m: studies.Column() for m in metrics}
     columns["refused"] = studies.Column((), "bool", False)
     definition = {
@@ -247,10 +246,15 @@ def _designs(
             rows.append({"refused": True})
         else:
             rows.append(_score(robot, arm, samples, measure, level, seed, box, step))
-    names = list(STATISTICS) + ["reach"] + (["coverage"] if box is not None else [])
+    names = _metrics(box is not None)
     out = {m: np.array([r.get(m, math.nan) for r in rows], dtype=float) for m in names}
     out["refused"] = np.array([r.get("refused", False) for r in rows], dtype=bool)
     return out
+
+
+def _metrics(coverage: bool) -> list[str]:
+    """The metrics of a sweep: the statistics of the measure, the reach and, for a box, its coverage."""
+    return list(STATISTICS) + ["reach"] + (["coverage"] if coverage else [])
 
 
 def _build(name: str, design: dict[str, float], arm: int) -> MobileManipulator | str:
@@ -275,9 +279,7 @@ def _score(
     step: float | None,
 ) -> dict[str, float]:
     """One design's metrics (module notes)."""
-    scored = Position(
-        "".join(c for c, m in zip("xyz", maps.moving_axes(maps.tool_positions(robot, arm))) if m), arm=arm
-    )
+    scored = maps.scored_task(maps.tool_positions(robot, arm), arm)
     q = sample_configurations(robot, samples, seed)
     values = np.asarray(mp.jacobian_and_measures(robot, q, level, scored)[1][measure])
     row = {
