@@ -1,5 +1,6 @@
-"""`mobman sweep` (mobman.cli.sweep): the grid from --vary, the ranking as JSON and as a table, a store
-resumed, exit status 3 when no design can be built, one line and exit status 2 for bad options."""
+"""`mobman sweep` (mobman.cli.sweep): the grid from --vary, the ranking as JSON and as a table, the mount of a
+robot read from a URDF file, a store resumed, exit status 3 when no design can be built, one line and exit
+status 2 for bad options."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ import pytest
 
 from mobman.cli.sweep import parse_values
 from mobman.errors import InputError
+from mobman.io.urdf import write_urdf
+from mobman.model.robots import build
 
 
 def test_vary_takes_a_range_or_a_list():
@@ -42,6 +45,32 @@ def test_the_json_report_ranks_the_designs_by_coverage(cli_run):
         0.8
     )
     assert first["metrics"]["coverage"] > second["metrics"]["coverage"] > 0
+
+
+def test_the_mount_of_a_robot_read_from_a_urdf_file(cli_run, tmp_path):
+    path = tmp_path / "planar.urdf"
+    write_urdf(build("bayle-planar"), path)
+    args = ["sweep", str(path), "--tip", "tool_link", "--samples", "100"]
+    code, out, err = cli_run([*args, "--vary", "mount.x=0:0.4:3", "--param", "mount.y=0.1", "--json"])
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["robot"] == str(path) and report["fixed"] == {"mount.y": 0.1}
+    # the arm's measures do not move with its mount: the ranking keeps the grid's order; the reach grows
+    assert [entry["design"]["mount.x"] for entry in report["ranking"]] == [0.0, 0.2, 0.4]
+    reach = [entry["metrics"]["reach"] for entry in report["ranking"]]
+    np.testing.assert_allclose(reach, np.hypot([0.0, 0.2, 0.4], 0.1) + 1.0, rtol=1e-12)
+    for option, message in [
+        (
+            ["--vary", "l1=1,2"],
+            "--vary: the given robot 'bayle-planar' has no parameter 'l1'; its parameters: mount.x",
+        ),
+        (
+            ["--vary", "mount.x=0", "--param", "l1=2"],
+            "--param: the given robot 'bayle-planar' has no parameter",
+        ),
+    ]:
+        code, out, err = cli_run([*args, *option])
+        assert code == 2 and message in err and err.count("\n") == 1 and out == ""
 
 
 def test_the_table_and_a_store_resumed(cli_run, tmp_path, monkeypatch):
@@ -79,6 +108,10 @@ def test_no_design_built_is_exit_status_3(cli_run):
         (["--vary", "l1=1", "--step", "0.1"], "bounds and step go together"),
         (["--vary", "l1=1", "--samples", "10", "--rank-by", "w"], "--rank-by: metric must be one of mean"),
         (["--vary", "l1=1", "--top", "0"], "--top must be ≥ 1"),
+        (
+            ["--vary", "mount.z=1", "--tip", "hand"],
+            "--tip: for a URDF file (a path ending in .urdf), not robot",
+        ),
     ],
 )
 def test_bad_options_are_one_line_and_exit_status_2(cli_run, args, message):

@@ -1,11 +1,12 @@
-"""mobman.model.robot: a robot of two arms on offset mounts, models hashable and equal by value, and the model's
-construction errors (robots, platforms, inertials, tasks, arms)."""
+"""mobman.model.robot: a robot of two arms on offset mounts, an arm mounted anew (with_mount), models hashable
+and equal by value, and the model's construction errors (robots, platforms, inertials, tasks, arms)."""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
+import numpy.typing as npt
 import pytest
 
 import mobman
@@ -20,6 +21,7 @@ from mobman.model import (
     robots,
     stack,
 )
+from mobman.redundancy import sample_configurations
 
 
 def test_two_arms_and_mount_offsets():
@@ -33,6 +35,35 @@ def test_two_arms_and_mount_offsets():
     q = np.array([1.0, 2.0, 0.0, 0.0, 0.0])
     np.testing.assert_allclose(K.forward(robot, q), [2.5, 2.0, 0.0, 1.0, 3.3, 0.2], atol=1e-14)
     assert robot.coordinate_names == ("x", "y", "theta", "arm1.q1", "arm2.q1")  # two copies: prefixed
+
+
+def rot_z(angle: npt.ArrayLike) -> np.ndarray:
+    """Rotations about the vertical, shape (..., 3, 3)."""
+    c, s = np.cos(angle), np.sin(angle)
+    zero, one = np.zeros_like(c), np.ones_like(c)
+    return np.stack(
+        [np.stack([c, -s, zero], -1), np.stack([s, c, zero], -1), np.stack([zero, zero, one], -1)], -2
+    )
+
+
+def test_with_mount_moves_the_arm_rigidly_with_the_platform():
+    # the tool at P + R(θ)(m + R_z(yaw) a(q_a)), a(q_a) read off the robot's own mount (0, 0, 0.4), yaw 0
+    robot = robots.build("panda-differential")
+    mount = Mount(0.1, -0.05, 0.5, yaw=math.pi / 2)
+    moved = robot.with_mount(mount)
+    q = sample_configurations(robot, 64, seed=3)
+    q[:4, 2] = [math.pi / 2, -math.pi / 2, math.pi, 0.0]
+    platform = np.c_[q[:, :2], np.zeros(len(q))]
+    turn = rot_z(q[:, 2])
+    tool = np.asarray(K.forward(robot, q, Position()))
+    a = np.einsum("nji,nj->ni", turn, tool - platform) - [0.0, 0.0, 0.4]
+    expected = platform + np.einsum("nij,nj->ni", turn, [0.1, -0.05, 0.5] + a @ rot_z(math.pi / 2).T)
+    np.testing.assert_allclose(K.forward(moved, q, Position()), expected, atol=1e-13)
+    assert moved.mounts == (mount,) and moved != robot and robot.mounts == (Mount(z=0.4),)
+    with pytest.raises(mobman.InputError, match="arm must be in 0..0"):
+        robot.with_mount(mount, arm=1)
+    with pytest.raises(mobman.InputError, match="mount must be a Mount, got tuple"):
+        robot.with_mount((0.1, 0.0, 0.0))  # type: ignore[arg-type]
 
 
 def test_models_are_hashable_and_equal_by_value():

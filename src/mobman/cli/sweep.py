@@ -1,8 +1,9 @@
-"""``mobman sweep``: a built-in robot's parameters varied over a grid, every design scored
-(:mod:`mobman.studies.sweep`).
+"""``mobman sweep``: a robot's parameters varied over a grid, every design scored (:mod:`mobman.studies.sweep`).
 
 ``--vary NAME=START:STOP:COUNT`` (evenly spaced values, both ends included) or ``--vary NAME=V1,V2,…`` once
-per varied parameter; ``--param NAME=VALUE`` fixes another. Each design is scored by the manipulability of
+per varied parameter; ``--param NAME=VALUE`` fixes another. The parameters are a built-in robot's own (as
+``mobman robots`` lists them) and, for every robot, built-in or a .toml or .urdf file, the scored arm's mount
+``mount.x``, ``mount.y``, ``mount.z`` (m) and ``mount.yaw`` (rad) in the platform frame. Each design is scored by the manipulability of
 its arm's tool over seeded random postures (``--samples``, ``--measure``, ``--level``), its horizontal reach
 and, with ``--bounds`` and ``--step``, the share of that box it reaches (``coverage``). ``--store`` keeps the
 designs in a Zarr store as they are computed (a stopped sweep is resumed by the same command);
@@ -21,11 +22,23 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import StudyOption, not_reached, parse_params, progress_bar, resumable
+from mobman.cli.common import (
+    StudyOption,
+    UrdfOption,
+    load_robot,
+    not_reached,
+    parse_params,
+    progress_bar,
+    refuse_urdf_options,
+    resumable,
+    urdf_options,
+)
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_number, parse_vector
 from mobman.manipulability import MEASURES
+from mobman.model.robot import MobileManipulator
+from mobman.model.robots import ROBOTS, command_name
 from mobman.studies.options import LEVELS
 from mobman.studies.sweep import DesignSweep, sweep
 
@@ -74,10 +87,13 @@ def _entry(result: DesignSweep, index: tuple[int, ...]) -> dict[str, Any]:
 @app.command("sweep")
 def sweep_command(
     robot_name: str = typer.Argument(
-        ..., metavar="ROBOT", help="A built-in robot with parameters (see `mobman robots`)."
+        ..., metavar="ROBOT", help="A built-in robot (see `mobman robots`), a .toml or a .urdf file."
     ),
     vary: list[str] = typer.Option(
-        ..., "--vary", help="NAME=START:STOP:COUNT or NAME=V1,V2,… (repeatable: one grid axis each)."
+        ...,
+        "--vary",
+        help="NAME=START:STOP:COUNT or NAME=V1,V2,… (repeatable: one grid axis each). NAME: a built-in "
+        "robot's parameter, or the scored arm's mount.x, mount.y, mount.z (m), mount.yaw (rad).",
     ),
     params: list[str] | None = typer.Option(None, "--param", help="A fixed robot parameter NAME=VALUE."),
     arm: int = typer.Option(0, "--arm", help="The arm whose tool is scored (0 for the first)."),
@@ -102,12 +118,24 @@ def sweep_command(
         help="Metric the designs are ranked by (default: coverage with --bounds, else mean).",
     ),
     top: int = typer.Option(5, "--top", help="Designs listed, best first (≥ 1)."),
+    tip: list[str] | None = UrdfOption.tip,
+    base: str | None = UrdfOption.base,
+    platform: str | None = UrdfOption.platform,
+    wheels: str | None = UrdfOption.wheels,
+    lock: list[str] | None = UrdfOption.lock,
     quiet: bool = StudyOption.quiet,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Score every design of a grid of a robot's parameters by manipulability, reach and coverage."""
     if top < 1:
         raise InputError(f"--top must be ≥ 1, got {top}")
+    urdf = urdf_options(tip, base, platform, wheels, lock)
+    source: str | MobileManipulator
+    if command_name(robot_name) in ROBOTS:  # rebuilt for each design from its parameters
+        refuse_urdf_options(urdf, f"robot {robot_name!r}")
+        source = robot_name
+    else:  # a file: its mount is what can vary (--param fixes it too, hence not the file's --param)
+        source = load_robot(robot_name, None, urdf)
     grid = dict(parse_values(item) for item in vary)
     if len(grid) != len(vary):
         raise InputError("--vary: a parameter is given twice")
@@ -115,7 +143,7 @@ def sweep_command(
     with resumable("sweep", store), progress_bar("sweeping", not (quiet or json_output)) as bar:
         try:
             result = sweep(
-                robot_name,
+                source,
                 grid,
                 fixed=parse_params(params),
                 arm=arm,

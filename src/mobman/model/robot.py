@@ -197,6 +197,14 @@ class MobileManipulator:
         """The same robot with another operational task."""
         return replace(self, task=task)
 
+    def with_mount(self, mount: Mount, arm: int = 0) -> "MobileManipulator":
+        """The same robot with arm ``arm`` fixed to the platform by ``mount`` (in the platform frame)."""
+        if not (isinstance(arm, int) and 0 <= arm < len(self.arms)):
+            raise InputError(f"{self.name}: arm must be in 0..{len(self.arms) - 1}, got {arm!r}")
+        if not isinstance(mount, Mount):
+            raise InputError(f"mount must be a Mount, got {type(mount).__name__}")
+        return replace(self, mounts=self.mounts[:arm] + (mount,) + self.mounts[arm + 1 :])
+
     def with_link_inertials(self, inertials: "Sequence[LinkInertial]", arm: int = 0) -> "MobileManipulator":
         """The same robot with the links of arm ``arm`` given ``inertials`` (one per joint), for the dynamics."""
         if not (isinstance(arm, int) and 0 <= arm < len(self.arms)):

@@ -1,8 +1,13 @@
-"""Design sweeps: a built-in robot's parameters varied over a grid, each design scored.
+"""Design sweeps: a robot's parameters varied over a grid, each design scored.
 
-Every combination of the values given for the parameters (link lengths, offsets, velocity limits: the keyword
-parameters of a robot of :mod:`mobman.model.robots`, as ``mobman robots`` lists them) is one design. Each
-design is scored by
+Every combination of the values given for the parameters is one design. The parameters are those of the
+robot's constructor for a built-in robot (link lengths, offsets, velocity limits: the keyword parameters of a
+robot of :mod:`mobman.model.robots`, as ``mobman robots`` lists them) and, for every robot, built-in or read
+from a file, the pose of the scored arm's mount in the platform frame (:data:`MOUNT`: ``mount.x``,
+``mount.y``, ``mount.z`` in m and ``mount.yaw`` in rad, each replacing the robot's own value): where to fix
+the arm on the platform. A robot read from a URDF file has its arm mounted at the platform frame's origin,
+so there they are offsets from the file's own placement (``mount.z = 0.1`` raises TIAGo's torso and arm by
+10 cm). Each design is scored by
 
 - the manipulability of its arm's tool over seeded random postures within the joint limits
   (:func:`mobman.redundancy.sample_configurations`, the same seed for every design, so that designs are
@@ -27,7 +32,7 @@ import inspect
 import itertools
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any
 
@@ -50,6 +55,9 @@ STATISTICS = ("mean", "p10", "median", "max")
 
 MAX_DESIGNS = 100_000
 """Largest grid of designs :func:`sweep` accepts."""
+
+MOUNT = {"mount.x": "x", "mount.y": "y", "mount.z": "z", "mount.yaw": "yaw"}
+"""The parameters every robot has, each a field of the scored arm's :class:`mobman.model.robot.Mount`."""
 
 
 @dataclass(frozen=True)
@@ -88,7 +96,7 @@ class DesignSweep:
 
 
 def sweep(
-    robot: str,
+    robot: str | MobileManipulator,
     parameters: Mapping[str, npt.ArrayLike],
     *,
     fixed: dict[str, float] | None = None,
@@ -104,8 +112,9 @@ def sweep(
     scheduler: str | None = None,
     progress: studies.Progress | None = None,
 ) -> DesignSweep:
-    """Score every design of the grid ``parameters`` (name → values) of the built-in robot ``robot`` (its
-    command-line name; module notes).
+    """Score every design of the grid ``parameters`` (name → values) of ``robot``: a built-in robot's
+    command-line name, whose constructor's parameters and :data:`MOUNT` can be varied, or a robot (read from
+    a file, say), whose :data:`MOUNT` can be (module notes).
 
     ``fixed``: the robot's other parameters (its defaults otherwise); ``arm``: whose tool is scored;
     ``samples``: postures per design; ``measure``: one of :data:`mobman.manipulability.MEASURES`;
@@ -114,15 +123,29 @@ def sweep(
     ``store``, ``chunk`` (designs per unit of work: 1 for a new sweep, the store's own for one resumed),
     ``scheduler``, ``progress``: :func:`mobman.studies.store.run`.
     """
-    name = robots.command_name(robot) if isinstance(robot, str) else None
-    if name is None or name not in robots.ROBOTS:
-        raise InputError(f"robot must be a built-in robot's name ({', '.join(robots.ROBOTS)}), got {robot!r}")
-    allowed = list(inspect.signature(robots.ROBOTS[name]).parameters)
+    source: str | MobileManipulator
+    if isinstance(robot, MobileManipulator):
+        source, name, own = robot, robot.name, []
+    elif isinstance(robot, str) and robots.command_name(robot) in robots.ROBOTS:
+        source = name = robots.command_name(robot)
+        own = list(inspect.signature(robots.ROBOTS[name]).parameters)
+    else:
+        raise InputError(
+            f"robot must be a built-in robot's name ({', '.join(robots.ROBOTS)}) or a MobileManipulator, "
+            f"got {robot!r}"
+        )
     fixed = {k: float(v) for k, v in (fixed or {}).items()}
-    grid = _grid(name, allowed, parameters, fixed)
+    described = f"robot {name}" if isinstance(source, str) else f"the given robot {name!r}"
+    grid = _grid(described, own + list(MOUNT), parameters, fixed)
     samples = options.count(samples, "samples")
     if not (isinstance(arm, (int, np.integer)) and arm >= 0):
         raise InputError(f"arm must be an integer ≥ 0, got {arm!r}")
+    if isinstance(source, MobileManipulator) and arm >= len(source.arms):
+        raise InputError(
+            f"arm must be in 0..{len(source.arms) - 1} ({name} has {len(source.arms)} arm(s)), got {arm}"
+        )
+    # the robot's digest is in the definition: a store computed for another robot of the name is refused
+    base = robots.build(name) if isinstance(source, str) else source
     options.scoring(measure, level)
     if (bounds is None) != (step is None):
         raise InputError("bounds and step go together: give both for the coverage of a box, or neither")
@@ -138,6 +161,7 @@ def sweep(
     definition = {
         "study": KIND,
         "robot": name,
+        "digest": maps.robot_digest(base),
         "parameters": {k: v.tolist() for k, v in grid.items()},
         "fixed": fixed,
         "arm": int(arm),
@@ -149,7 +173,7 @@ def sweep(
         "step": None if step is None else float(step),
     }
     compute = partial(
-        _designs, name, {k: v.tolist() for k, v in grid.items()}, fixed, int(arm), int(samples), measure,
+        _designs, source, {k: v.tolist() for k, v in grid.items()}, fixed, int(arm), int(samples), measure,
         level, int(seed), box, None if step is None else float(step),
     )  # fmt: skip
     study = studies.run(
@@ -167,7 +191,9 @@ def sweep(
 
 
 def from_study(study: studies.Study) -> DesignSweep:
-    """A design sweep from its study's results (:func:`mobman.studies.store.read` of a sweep's store)."""
+    """A design sweep from its study's results (:func:`mobman.studies.store.read` of a sweep's store). Only
+    a built-in robot's constructor refuses designs, so the reasons of the refused ones are found again from
+    the robot's name."""
     d = study.definition
     if d.get("study") != KIND:
         raise InputError(f"the study is a {d.get('study')!r}, not a {KIND}")
@@ -193,17 +219,15 @@ def from_study(study: studies.Study) -> DesignSweep:
 
 
 def _grid(
-    name: str, allowed: list[str], parameters: Mapping[str, npt.ArrayLike], fixed: dict[str, float]
+    robot: str, allowed: list[str], parameters: Mapping[str, npt.ArrayLike], fixed: dict[str, float]
 ) -> dict[str, np.ndarray]:
     if not parameters:
-        raise InputError(
-            f"parameters: give at least one parameter of robot {name} to vary ({', '.join(allowed) or 'it has none'})"
-        )
+        raise InputError(f"parameters: give at least one parameter of {robot} to vary ({', '.join(allowed)})")
     grid = {}
     for key, values in parameters.items():
         if key not in allowed:
             raise InputError(
-                f"parameters: robot {name} has no parameter {key!r}; its parameters: {', '.join(allowed) or 'none'}"
+                f"parameters: {robot} has no parameter {key!r}; its parameters: {', '.join(allowed)}"
             )
         if key in fixed:
             raise InputError(f"parameters: {key} is both varied and fixed")
@@ -216,14 +240,12 @@ def _grid(
         grid[key] = arr
     for key in fixed:
         if key not in allowed:
-            raise InputError(
-                f"fixed: robot {name} has no parameter {key!r}; its parameters: {', '.join(allowed)}"
-            )
+            raise InputError(f"fixed: {robot} has no parameter {key!r}; its parameters: {', '.join(allowed)}")
     return grid
 
 
 def _designs(
-    name: str,
+    source: str | MobileManipulator,
     grid: dict[str, list[float]],
     fixed: dict[str, float],
     arm: int,
@@ -241,7 +263,7 @@ def _designs(
     combos = list(itertools.product(*grid.values()))[start:stop]
     rows: list[dict[str, Any]] = []
     for combo in combos:
-        robot = _build(name, {**fixed, **dict(zip(grid, combo))}, arm)
+        robot = _build(source, {**fixed, **dict(zip(grid, combo))}, arm)
         if isinstance(robot, str):  # a design the constructor refuses (a length ≤ 0): recorded, not fatal
             rows.append({"refused": True})
         else:
@@ -257,15 +279,19 @@ def _metrics(coverage: bool) -> list[str]:
     return list(STATISTICS) + ["reach"] + (["coverage"] if coverage else [])
 
 
-def _build(name: str, design: dict[str, float], arm: int) -> MobileManipulator | str:
-    """The robot ``name`` built with ``design``, or why it cannot be (or has no arm ``arm``)."""
+def _build(source: str | MobileManipulator, design: dict[str, float], arm: int) -> MobileManipulator | str:
+    """The design: the built-in robot ``source`` built with the constructor's parameters of ``design`` (or
+    the robot ``source`` itself), its arm ``arm`` mounted as the :data:`MOUNT` parameters of ``design`` say;
+    or why it cannot be (or has no arm ``arm``)."""
+    own = {k: v for k, v in design.items() if k not in MOUNT}
     try:
-        robot = robots.build(name, **design)
+        robot = robots.build(source, **own) if isinstance(source, str) else source
     except MobmanError as exc:
         return str(exc)
     if arm >= len(robot.arms):
         return f"arm {arm}: the robot has {len(robot.arms)} arm(s)"
-    return robot
+    placed = {MOUNT[k]: v for k, v in design.items() if k in MOUNT}
+    return robot.with_mount(replace(robot.mounts[arm], **placed), arm) if placed else robot
 
 
 def _score(
@@ -294,4 +320,4 @@ def _score(
     return row
 
 
-__all__ = ["DesignSweep", "KIND", "MAX_DESIGNS", "STATISTICS", "from_study", "sweep"]
+__all__ = ["DesignSweep", "KIND", "MAX_DESIGNS", "MOUNT", "STATISTICS", "from_study", "sweep"]
