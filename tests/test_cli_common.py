@@ -225,8 +225,38 @@ def test_load_robot_reads_a_urdf_file_with_its_options(tmp_path):
 )
 def test_load_robot_refuses_parameters_for_files(name, fragment):
     with pytest.raises(InputError) as info:
-        common.load_robot(name, ["l1=0.5"])
-    _one_line(info, "--param applies to built-in robots", fragment)
+        common.load_robot(name, ["mount.z=0.1", "l1=0.5"])
+    _one_line(
+        info,
+        "--param l1: a robot file takes only its arm's mount (mount.x, mount.y, mount.z, mount.yaw)",
+        fragment,
+    )
+
+
+def test_load_robot_mounts_the_arm_of_a_built_in_robot_or_a_file(tmp_path):
+    from mobman.io.urdf import write_urdf
+    from mobman.model.robot import Mount
+
+    mounted = common.load_robot("bayle-planar", ["l1=0.6", "mount.x=0.2", "mount.yaw=pi/2"])
+    assert mounted == robots.design("bayle-planar", {"l1": 0.6, "mount.x": 0.2, "mount.yaw": math.pi / 2})
+    assert mounted.mounts == (Mount(x=0.2, yaw=math.pi / 2),)
+    path = write_urdf(robots.build("bayle-planar"), tmp_path / "planar.urdf")
+    read = common.load_robot(str(path), ["mount.z=0.3"], common.urdf_options(["tool_link"]))
+    assert read.mounts == (Mount(z=0.3),) and read.arms[0].n_joints == 2
+    on_file = common.load_robot(str(PLANAR_FILE), ["mount.y=-0.1"])
+    assert on_file.mounts[0].y == -0.1
+    # the second arm of a two-arm robot, as a command with --arm asks
+    dual = common.load_robot("yamamoto-dual-arm", ["mount.z=0.5"], arm=1)
+    assert dual.mounts[0] == robots.build("yamamoto-dual-arm").mounts[0] and dual.mounts[1].z == 0.5
+    with pytest.raises(ModelError) as info:
+        common.load_robot("bayle-planar", ["mount.w=1"])
+    _one_line(
+        info,
+        "robot bayle-planar: unknown parameter 'mount.w'; allowed: l1, l2, mount.x, mount.y, mount.z, mount.yaw",
+    )
+    with pytest.raises(ModelError) as info:
+        common.load_robot("bayle-planar", ["mount.z=0.1"], arm=1)
+    _one_line(info, "robot bayle-planar: arm 1 to mount: the robot has 1 arm(s)")
 
 
 @pytest.mark.parametrize(
@@ -297,6 +327,14 @@ def test_load_dynamics_of_tiago_takes_the_urdf_effort_limits_and_gravity(name):
     assert np.asarray(limits[:2]) == pytest.approx(
         [efforts["wheel_right_joint"], efforts["wheel_left_joint"]]
     )
+
+
+def test_load_dynamics_keeps_the_arm_s_mount_and_the_urdf_s_inertials():
+    robot = common.load_robot("tiago", ["mount.z=0.2"])
+    model, _ = common.load_dynamics("tiago", robot, "--dynamic")
+    plain, _ = common.load_dynamics("tiago", robots.build("tiago"), "--dynamic")
+    assert model.robot.mounts == robot.mounts and model.robot.mounts != plain.robot.mounts
+    assert model.robot.arms == plain.robot.arms and model.body == plain.body and model.wheel == plain.wheel
 
 
 def test_load_dynamics_names_what_a_robot_without_a_dynamic_model_lacks():

@@ -1,5 +1,5 @@
-"""`mobman map` (mobman.cli.maps): the map as JSON and as a table, its figure, a store resumed, exit status 3
-when no cell is reached, one line and exit status 2 for bad options."""
+"""`mobman map` (mobman.cli.maps): the map as JSON and as a table, the annulus moved with the arm's mount, its
+figure, a store resumed, exit status 3 when no cell is reached, one line and exit status 2 for bad options."""
 
 from __future__ import annotations
 
@@ -25,6 +25,14 @@ def test_the_json_report_counts_the_annulus_and_names_the_best_cell(cli_run):
     assert np.linalg.norm(best["centre"]) == pytest.approx(np.sqrt(0.7**2 + 0.4**2), abs=0.15)
     assert best["score"] == pytest.approx(0.7 * 0.4 * abs(np.sin(best["q"][1])), abs=1e-12)
     assert report["layers"] == [{"z": 0.0, "reached": annulus}]
+
+
+def test_the_annulus_moves_with_the_arm_s_mount(cli_run):
+    code, out, err = cli_run(["map", "bayle-planar", *PLANE, "--param", "mount.x=0.4", "--json"])
+    assert code == 0, err
+    x = np.linspace(-1.2, 1.2, 13)
+    d = np.hypot(*np.meshgrid(x - 0.4, x))
+    assert json.loads(out)["reached"] == int(((d >= 0.3 - 1e-9) & (d <= 1.1 + 1e-9)).sum())
 
 
 def test_the_table_the_figure_and_a_store_resumed(cli_run, tmp_path, monkeypatch):

@@ -1,4 +1,5 @@
-"""`mobman robots` (mobman.cli.robots): the built-in robots as a table and as JSON."""
+"""`mobman robots` (mobman.cli.robots): the built-in robots as a table and as JSON, and the mount's parameters
+every robot takes."""
 
 import json
 
@@ -8,7 +9,9 @@ from mobman.model import robots
 
 def test_robots_json_lists_every_builtin_robot_with_its_defaults(capsys):
     main(["robots", "--json"])
-    entries = {e["name"]: e for e in json.loads(capsys.readouterr().out)["robots"]}
+    report = json.loads(capsys.readouterr().out)
+    assert report["every_robot"] == ["mount.x", "mount.y", "mount.z", "mount.yaw"]
+    entries = {e["name"]: e for e in report["robots"]}
     assert set(entries) == set(robots.ROBOTS)
     assert entries["korayem-planar"]["parameters"] == {"l0": 0.4, "l1": 0.5, "l2": 0.5}
     assert entries["tchon-car-rtr"]["coordinates"] == list(robots.tchon_car_rtr().coordinate_names)
@@ -19,3 +22,4 @@ def test_robots_table(capsys, monkeypatch):
     main(["robots"])
     out = capsys.readouterr().out
     assert all(name in out for name in robots.ROBOTS)
+    assert "also takes --param mount.x, mount.y, mount.z, mount.yaw" in out

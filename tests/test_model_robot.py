@@ -66,6 +66,18 @@ def test_with_mount_moves_the_arm_rigidly_with_the_platform():
         robot.with_mount((0.1, 0.0, 0.0))  # type: ignore[arg-type]
 
 
+def test_design_builds_the_robot_and_mounts_the_arm_it_names():
+    designed = robots.design("bayle_planar", {"l2": 0.7, "mount.z": 0.1})
+    mounted = robots.build("bayle-planar", l2=0.7).with_mount(Mount(z=0.1))
+    assert designed.mounts == mounted.mounts and designed.arms == mounted.arms
+    assert designed.parameters == (("l1", 0.5), ("l2", 0.7), ("mount.z", 0.1))  # a saved motion rebuilds it
+    panda = robots.build("panda-differential")
+    assert robots.design(panda) is panda
+    assert robots.design(panda, {"mount.x": 0.1}).mounts == (Mount(x=0.1, z=0.4),)  # its own z kept
+    dual = robots.design("yamamoto-dual-arm", {"mount.yaw": 1.0}, arm=1)
+    assert dual.mounts[0] == robots.build("yamamoto-dual-arm").mounts[0] and dual.mounts[1].yaw == 1.0
+
+
 def test_models_are_hashable_and_equal_by_value():
     assert robots.bayle_planar() == robots.bayle_planar()
     assert hash(robots.bayle_planar()) == hash(robots.bayle_planar())
@@ -85,6 +97,10 @@ def test_models_are_hashable_and_equal_by_value():
         (lambda: Position("xw"), "components"),
         (lambda: EulerAngles("ABC"), "not supported"),
         (lambda: Arm.from_dh([(0, 0, 1)]), "4 numbers"),
+        (lambda: robots.design("nope"), "unknown robot 'nope'"),
+        (lambda: robots.design("bayle-planar", {"mount.q": 1.0}), "'mount.q'; allowed: l1, l2, mount.x"),
+        (lambda: robots.design(robots.bayle_planar(), {"l1": 1.0}), "'l1'; allowed: mount.x, mount.y"),
+        (lambda: robots.design("bayle-planar", {"mount.z": math.nan}), "Mount: z must be finite"),
     ],
 )
 def test_bad_model_input_raises_model_error(make, match):

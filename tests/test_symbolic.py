@@ -267,6 +267,15 @@ def test_symbolic_parameters_match_numerical_model_at_other_values():
     )
 
 
+def test_a_mounted_robot_s_symbolic_parameters_keep_its_mount():
+    # l1 a symbol, the arm 0.3 m ahead of the axle: x_ee = x + 3/10 cos θ + l1 cos(θ + q4) + l2 cos(θ + q4 + q5)
+    model = S.SymbolicRobot(robots.design("bayle-planar", {"mount.x": 0.3}), params=("l1",))
+    x, _, theta, q4, q5 = model.q
+    l1 = model.params["l1"]
+    expected = x + sp.Rational(3, 10) * sp.cos(theta) + l1 * sp.cos(theta + q4) + sp.cos(theta + q4 + q5) / 2
+    assert sp.simplify(model.forward()[0] - expected) == 0
+
+
 def test_exact_numbers():
     assert S.exact(0.12) == sp.Rational(3, 25)
     assert S.exact(math.pi) == sp.pi

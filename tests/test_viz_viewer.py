@@ -236,6 +236,15 @@ def _settled(page) -> bytes:
     return shot
 
 
+def test_a_saved_motion_rebuilds_the_robot_with_its_arm_s_mount(tmp_path):
+    from mobman.io import trajectories
+    from mobman.viz.viewer import robot_of
+
+    robot = robots.design("bayle-planar", {"l1": 0.6, "mount.x": 0.2, "mount.yaw": 0.5})
+    trajectories.write(tmp_path, [trajectories.Motion.of("still", robot, [0.0], np.zeros((1, robot.n_q)))])
+    assert robot_of(trajectories.read(tmp_path)[0]) == robot
+
+
 def test_several_motions_one_chosen_by_label(tmp_path):
     robot = robots.bayle_rrp()
     still = np.broadcast_to(Q[5], Q.shape)

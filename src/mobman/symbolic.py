@@ -76,12 +76,21 @@ class _Constants:
         if not params:
             return
         if factory is None:
-            from mobman.model.robots import ROBOTS
+            from mobman.model.robots import ROBOTS, design
 
-            factory = ROBOTS.get(robot.name)
-        if factory is None:
-            raise ModelError(f"symbolic: robot {robot.name!r} is not built-in; give factory= to use params")
-        allowed = list(inspect.signature(factory).parameters)
+            if robot.name not in ROBOTS:
+                raise ModelError(
+                    f"symbolic: robot {robot.name!r} is not built-in; give factory= to use params"
+                )
+            allowed = list(inspect.signature(ROBOTS[robot.name]).parameters)
+            built_in = robot.name
+
+            def designed(**values: float) -> MobileManipulator:  # its arms mounted as the robot's were
+                return design(built_in, values)
+
+            factory = designed
+        else:
+            allowed = list(inspect.signature(factory).parameters)
         defaults = dict(robot.parameters)
         missing = [p for p in params if p not in allowed or p not in defaults]
         if missing:

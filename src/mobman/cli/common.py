@@ -9,6 +9,7 @@ import os
 import shutil
 import sys
 from collections.abc import Callable, Iterator
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -23,7 +24,7 @@ from mobman.io.numbers import parse_number, parse_vector
 from mobman.io.spec import read_text
 from mobman.io.urdf import is_urdf_path
 from mobman.model.robot import MobileManipulator
-from mobman.model.robots import build, command_name
+from mobman.model.robots import MOUNT, command_name, design
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
@@ -248,31 +249,39 @@ def refuse_urdf_options(urdf: dict | None, what: str) -> None:
         raise InputError(f"{flags}: for a URDF file (a path ending in .urdf), not {what}")
 
 
-def load_robot(name: str, params: list[str] | None = None, urdf: dict | None = None) -> MobileManipulator:
+def load_robot(
+    name: str, params: list[str] | None = None, urdf: dict | None = None, arm: int = 0
+) -> MobileManipulator:
     """A built-in robot by name with --param overrides, a robot description file (a path ending in .toml), or
     a URDF file (a path ending in .urdf, read by :func:`mobman.io.urdf.load_urdf` with the ``urdf`` options,
-    :func:`urdf_options`)."""
+    :func:`urdf_options`). Every robot also takes the --param ``mount.x``, ``mount.y``, ``mount.z`` and
+    ``mount.yaw`` of arm ``arm``'s mount (:func:`mobman.model.robots.design`); a file takes no other."""
+    values = parse_params(params)
+    if is_urdf_path(name) or name.endswith(".toml"):
+        other = [key for key in values if key not in MOUNT]
+        if other:
+            rest = (
+                "a URDF file takes --tip, --base, --platform, --wheels and --lock"
+                if is_urdf_path(name)
+                else "edit the robot file instead"
+            )
+            raise InputError(
+                f"--param {other[0]}: a robot file takes only its arm's mount ({', '.join(MOUNT)}); {rest}"
+            )
     if is_urdf_path(name):
         from mobman.io.urdf import load_urdf
 
-        if params:
-            raise InputError(
-                "--param applies to built-in robots; a URDF file takes --tip, --base, --platform, --wheels "
-                "and --lock"
-            )
-        return load_urdf(name, **(urdf or {}))
+        return design(load_urdf(name, **(urdf or {})), values, arm)
     refuse_urdf_options(urdf, f"robot {name!r}")
     if name.endswith(".toml"):
         from mobman.io import robot_file
 
-        if params:
-            raise InputError("--param applies to built-in robots; edit the robot file instead")
-        return robot_file.load(name)
+        return design(robot_file.load(name), values, arm)
     if os.sep in name or Path(name).is_file():
         raise InputError(
             f"{name}: not a robot name; a robot file ends in .urdf (a URDF) or .toml (a robot description)"
         )
-    return build(name, **parse_params(params))
+    return design(name, values, arm)
 
 
 def load_dynamics(
@@ -294,9 +303,12 @@ def load_dynamics(
     if is_urdf_path(name) or key in REAL_ROBOTS:
         try:
             model = urdf_model(key) if key in REAL_ROBOTS else read_urdf(name, **(urdf or {}))
-            return DynamicModel.from_urdf(model), model.torque_limits()
+            dynamics, limits = DynamicModel.from_urdf(model), model.torque_limits()
         except ModelError as exc:
             raise ModelError(f"{option}: {exc}") from None
+        # the arms as --param mounted them (a mount carries no mass: the inertials stay the URDF's)
+        mounted = replace(dynamics.robot, mounts=robot.mounts)
+        return replace(dynamics, robot=mounted), limits
     if key != "yamamoto-dual-arm":
         raise ModelError(
             f"robot {name}: {option} needs a dynamic model (platform, wheel and link inertials and torque "

@@ -120,7 +120,7 @@ def map_command(
     """Map where the arm's tool reaches around the platform, scored by manipulability."""
     if figure is not None and figure.suffix.lower() != ".png":
         raise InputError(f"--figure must name a .png file, got {str(figure)!r}")
-    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
+    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock), arm)
     box = None if bounds is None else parse_vector(bounds, "--bounds", 6)
     with resumable("map", store), progress_bar("mapping", not (quiet or json_output)) as bar:
         try:

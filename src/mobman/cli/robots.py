@@ -1,5 +1,6 @@
 """``mobman robots``: list the built-in robots with their parameters and coordinates (the real robots, read
-from URDF files, with the install line of the ``robots`` extra when it is missing)."""
+from URDF files, with the install line of the ``robots`` extra when it is missing), and the parameters every
+robot takes (its arm's mount, :data:`mobman.model.robots.MOUNT`)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from rich.table import Table
 from mobman.cli.app import app
 from mobman.io import dump_json
 from mobman.io.real_robots import EXTRA, REAL_ROBOTS
-from mobman.model.robots import ROBOTS
+from mobman.model.robots import MOUNT, ROBOTS
 
 
 @app.command("robots")
@@ -44,9 +45,13 @@ def robots_command(json_output: bool = typer.Option(False, "--json", help="Print
             }
         )
     if json_output:
-        typer.echo(dump_json({"robots": entries}))
+        typer.echo(dump_json({"robots": entries, "every_robot": list(MOUNT)}))
         return
-    table = Table(title="built-in robots")
+    table = Table(
+        title="built-in robots",
+        caption=f"every robot, built in or a .toml or .urdf file, also takes --param {', '.join(MOUNT)}: "
+        "the mount of its arm (--arm where a command has it) in the platform frame, m and rad",
+    )
     for column in ("name", "parameters", "coordinates q", "task ξ", "summary"):
         table.add_column(column, overflow="fold")
     for e in entries:

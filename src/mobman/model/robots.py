@@ -9,8 +9,10 @@ registers them here (:func:`register`) when :mod:`mobman.io` is imported.
 
 from __future__ import annotations
 
+import inspect
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 
 from mobman import checks
 from mobman.errors import ModelError
@@ -322,8 +324,6 @@ def build(name: str, **params: float) -> MobileManipulator:
     if key not in ROBOTS:
         raise ModelError(f"unknown robot {name!r}; built-in robots: {', '.join(ROBOTS)}")
     factory = ROBOTS[key]
-    import inspect
-
     allowed = list(inspect.signature(factory).parameters)
     for p in params:
         if p not in allowed:
@@ -331,3 +331,47 @@ def build(name: str, **params: float) -> MobileManipulator:
                 f"robot {key}: unknown parameter {p!r}; allowed: {', '.join(allowed) if allowed else 'none'}"
             )
     return factory(**params)
+
+
+MOUNT = {"mount.x": "x", "mount.y": "y", "mount.z": "z", "mount.yaw": "yaw"}
+"""The parameters every robot takes besides its constructor's: the fields of an arm's :class:`Mount`, the
+pose of its base in the platform frame (m, and rad about the vertical), each replacing the robot's own."""
+
+
+def parameter_names(source: str | MobileManipulator) -> list[str]:
+    """The parameters of a design of ``source`` (:func:`design`): a built-in robot's constructor's (``source``
+    its command-line name), then :data:`MOUNT`; a robot given as an object has only :data:`MOUNT`."""
+    if isinstance(source, MobileManipulator):
+        return list(MOUNT)
+    return list(inspect.signature(ROBOTS[command_name(source)]).parameters) + list(MOUNT)
+
+
+def design(
+    source: str | MobileManipulator, params: Mapping[str, float] | None = None, arm: int = 0
+) -> MobileManipulator:
+    """A design of a robot: the built-in robot ``source`` (its command-line name) built with its
+    constructor's parameters among ``params``, or the robot ``source`` itself, with arm ``arm`` fixed to the
+    platform as the :data:`MOUNT` parameters among ``params`` say (``{"mount.z": 0.3}``: its base 0.3 m above
+    the platform frame's origin), which join the robot's ``parameters``. ModelError names an unknown robot or parameter, a value the constructor
+    refuses, or an arm to mount that the robot does not have."""
+    params = dict(params or {})
+    if isinstance(source, str) and command_name(source) not in ROBOTS:
+        build(source)  # the error naming the built-in robots
+    unknown = [k for k in params if k not in parameter_names(source)]
+    if unknown:
+        name = source.name if isinstance(source, MobileManipulator) else command_name(source)
+        raise ModelError(
+            f"robot {name}: unknown parameter {unknown[0]!r}; allowed: {', '.join(parameter_names(source))}"
+        )
+    own = {k: v for k, v in params.items() if k not in MOUNT}
+    robot = source if isinstance(source, MobileManipulator) else build(source, **own)
+    placed = {MOUNT[k]: float(v) for k, v in params.items() if k in MOUNT}
+    if not placed:
+        return robot
+    if not (isinstance(arm, int) and 0 <= arm < len(robot.arms)):
+        raise ModelError(f"robot {robot.name}: arm {arm!r} to mount: the robot has {len(robot.arms)} arm(s)")
+    # the mount's parameters are kept with the constructor's: a motion saved with the robot rebuilds it
+    kept = {**dict(robot.parameters), **{k: float(v) for k, v in params.items() if k in MOUNT}}
+    return replace(
+        robot.with_mount(replace(robot.mounts[arm], **placed), arm), parameters=tuple(kept.items())
+    )

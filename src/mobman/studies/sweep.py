@@ -3,7 +3,7 @@
 Every combination of the values given for the parameters is one design. The parameters are those of the
 robot's constructor for a built-in robot (link lengths, offsets, velocity limits: the keyword parameters of a
 robot of :mod:`mobman.model.robots`, as ``mobman robots`` lists them) and, for every robot, built-in or read
-from a file, the pose of the scored arm's mount in the platform frame (:data:`MOUNT`: ``mount.x``,
+from a file, the pose of the scored arm's mount in the platform frame (:data:`mobman.model.robots.MOUNT`: ``mount.x``,
 ``mount.y``, ``mount.z`` in m and ``mount.yaw`` in rad, each replacing the robot's own value): where to fix
 the arm on the platform. A robot read from a URDF file has its arm mounted at the platform frame's origin,
 so there they are offsets from the file's own placement (``mount.z = 0.1`` raises TIAGo's torso and arm by
@@ -28,11 +28,10 @@ second or more per design, so a sweep is worth spreading over a Dask cluster. It
 
 from __future__ import annotations
 
-import inspect
 import itertools
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
@@ -55,9 +54,6 @@ STATISTICS = ("mean", "p10", "median", "max")
 
 MAX_DESIGNS = 100_000
 """Largest grid of designs :func:`sweep` accepts."""
-
-MOUNT = {"mount.x": "x", "mount.y": "y", "mount.z": "z", "mount.yaw": "yaw"}
-"""The parameters every robot has, each a field of the scored arm's :class:`mobman.model.robot.Mount`."""
 
 
 @dataclass(frozen=True)
@@ -113,8 +109,8 @@ def sweep(
     progress: studies.Progress | None = None,
 ) -> DesignSweep:
     """Score every design of the grid ``parameters`` (name → values) of ``robot``: a built-in robot's
-    command-line name, whose constructor's parameters and :data:`MOUNT` can be varied, or a robot (read from
-    a file, say), whose :data:`MOUNT` can be (module notes).
+    command-line name, whose constructor's parameters and mount can be varied, or a robot (read from a file,
+    say), whose mount can be (:func:`mobman.model.robots.design`; module notes).
 
     ``fixed``: the robot's other parameters (its defaults otherwise); ``arm``: whose tool is scored;
     ``samples``: postures per design; ``measure``: one of :data:`mobman.manipulability.MEASURES`;
@@ -125,10 +121,9 @@ def sweep(
     """
     source: str | MobileManipulator
     if isinstance(robot, MobileManipulator):
-        source, name, own = robot, robot.name, []
+        source, name = robot, robot.name
     elif isinstance(robot, str) and robots.command_name(robot) in robots.ROBOTS:
         source = name = robots.command_name(robot)
-        own = list(inspect.signature(robots.ROBOTS[name]).parameters)
     else:
         raise InputError(
             f"robot must be a built-in robot's name ({', '.join(robots.ROBOTS)}) or a MobileManipulator, "
@@ -136,16 +131,16 @@ def sweep(
         )
     fixed = {k: float(v) for k, v in (fixed or {}).items()}
     described = f"robot {name}" if isinstance(source, str) else f"the given robot {name!r}"
-    grid = _grid(described, own + list(MOUNT), parameters, fixed)
+    grid = _grid(described, robots.parameter_names(source), parameters, fixed)
     samples = options.count(samples, "samples")
     if not (isinstance(arm, (int, np.integer)) and arm >= 0):
         raise InputError(f"arm must be an integer ≥ 0, got {arm!r}")
-    if isinstance(source, MobileManipulator) and arm >= len(source.arms):
-        raise InputError(
-            f"arm must be in 0..{len(source.arms) - 1} ({name} has {len(source.arms)} arm(s)), got {arm}"
-        )
     # the robot's digest is in the definition: a store computed for another robot of the name is refused
     base = robots.build(name) if isinstance(source, str) else source
+    if arm >= len(base.arms):
+        raise InputError(
+            f"arm must be in 0..{len(base.arms) - 1} ({name} has {len(base.arms)} arm(s)), got {arm}"
+        )
     options.scoring(measure, level)
     if (bounds is None) != (step is None):
         raise InputError("bounds and step go together: give both for the coverage of a box, or neither")
@@ -280,18 +275,11 @@ def _metrics(coverage: bool) -> list[str]:
 
 
 def _build(source: str | MobileManipulator, design: dict[str, float], arm: int) -> MobileManipulator | str:
-    """The design: the built-in robot ``source`` built with the constructor's parameters of ``design`` (or
-    the robot ``source`` itself), its arm ``arm`` mounted as the :data:`MOUNT` parameters of ``design`` say;
-    or why it cannot be (or has no arm ``arm``)."""
-    own = {k: v for k, v in design.items() if k not in MOUNT}
+    """The design of ``source`` (:func:`mobman.model.robots.design`), or why it cannot be built."""
     try:
-        robot = robots.build(source, **own) if isinstance(source, str) else source
+        return robots.design(source, design, arm)
     except MobmanError as exc:
         return str(exc)
-    if arm >= len(robot.arms):
-        return f"arm {arm}: the robot has {len(robot.arms)} arm(s)"
-    placed = {MOUNT[k]: v for k, v in design.items() if k in MOUNT}
-    return robot.with_mount(replace(robot.mounts[arm], **placed), arm) if placed else robot
 
 
 def _score(
@@ -320,4 +308,4 @@ def _score(
     return row
 
 
-__all__ = ["DesignSweep", "KIND", "MAX_DESIGNS", "MOUNT", "STATISTICS", "from_study", "sweep"]
+__all__ = ["DesignSweep", "KIND", "MAX_DESIGNS", "STATISTICS", "from_study", "sweep"]

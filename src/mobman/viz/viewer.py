@@ -43,7 +43,7 @@ from mobman.dynamics import DynamicModel, ellipsoids
 from mobman.errors import InputError
 from mobman.io import trajectories
 from mobman.model.robot import MobileManipulator
-from mobman.model.robots import ROBOTS, build
+from mobman.model.robots import ROBOTS, design
 from mobman.model.tasks import Position
 from mobman.model.visual import Visual
 
@@ -205,7 +205,7 @@ def robot_of(motion: trajectories.Motion) -> MobileManipulator:
         raise InputError(
             f"results: {motion.robot_label} is not a built-in robot; give its description file as ROBOT"
         )
-    return build(motion.robot_name, **dict(motion.parameters))
+    return design(motion.robot_name, dict(motion.parameters))
 
 
 def motions_of(robot: MobileManipulator, path: Path | str) -> list[trajectories.Motion]:
