@@ -232,25 +232,48 @@ def test_load_capacity_of_tiago_s_urdf_file_takes_its_inertials_and_effort_limit
     assert loads[1]["limiting_actuator"] == loads[0]["limiting_actuator"]
 
 
-def test_a_load_capacity_spec_reads_its_urdf_file_once(tmp_path, monkeypatch):
-    """The [robot] file of a load-capacity spec whose motion is a control simulation is read once: the
-    simulation's specification takes the robot already built."""
+def _tiago_load(robot: dict, monkeypatch) -> tuple[dict, list]:
+    """docs/examples/tiago_load.toml with ``robot`` as its [robot] table and a motion of two samples, and the
+    list of the URDF files read from then on."""
     import tomllib
 
-    from mobman.cli.dynamics import parse
     from mobman.io import urdf
 
     data = tomllib.loads((ROOT / "docs" / "examples" / "tiago_load.toml").read_text())
-    data["robot"] = {"file": str(REAL_ROBOTS["tiago"].path())}
-    data["motion"]["control"]["duration"] = data["motion"]["control"]["dt"]  # two samples
-    reads = []
+    data["robot"] = robot
+    data["motion"]["control"]["duration"] = data["motion"]["control"]["dt"]
+    reads: list = []
     original = urdf.read_urdf
     monkeypatch.setattr(
         urdf, "read_urdf", lambda *args, **kwargs: reads.append(args) or original(*args, **kwargs)
     )
+    return data, reads
+
+
+def test_a_load_capacity_spec_reads_its_urdf_file_once(tmp_path, monkeypatch):
+    """The [robot] file of a load-capacity spec whose motion is a control simulation is read once: the
+    simulation's specification takes the robot already built."""
+    from mobman.cli.dynamics import parse
+
+    data, reads = _tiago_load({"file": str(REAL_ROBOTS["tiago"].path())}, monkeypatch)
     spec = parse(data, tmp_path)
     assert len(reads) == 1
     assert spec.model.robot.n_q == 3 + 8 and spec.q.shape == (2, spec.model.robot.n_q)
+
+
+def test_a_load_capacity_spec_mounts_a_real_robot_s_arm_from_its_params(tmp_path, monkeypatch):
+    from mobman.cli.dynamics import parse
+
+    data, reads = _tiago_load({"name": "tiago", "params": {"mount.z": 0.1}}, monkeypatch)
+    spec = parse(data, tmp_path)
+    assert len(reads) <= 1 and spec.model.robot.mounts[0].z == 0.1  # a real robot's model is cached
+    assert spec.model.robot.arms == urdf_model("tiago").robot.arms  # the URDF's inertials
+    data["robot"]["params"] = {"l1": 0.5}  # a real robot has only its mount's parameters
+    with pytest.raises(InputError) as info:
+        parse(data, tmp_path)
+    assert "robot: robot tiago: unknown parameter 'l1'; allowed: mount.x, mount.y, mount.z, mount.yaw" in str(
+        info.value
+    )
 
 
 def test_urdf_actuators_of_a_robot_without_a_urdf_name_both_sources():

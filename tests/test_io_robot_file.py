@@ -1,5 +1,5 @@
-"""Robot description files (mobman.io.robot_file): the same robot as a built-in one, use from the command line
-and from spec files, and one-line errors naming the field."""
+"""Robot description files (mobman.io.robot_file): the same robot as a built-in one, a built-in robot's params
+(its arm's mount too), use from the command line and from spec files, and one-line errors naming the field."""
 
 import json
 from pathlib import Path
@@ -11,7 +11,7 @@ from mobman import kinematics as K
 from mobman.cli import main
 from mobman.errors import InputError
 from mobman.io import robot_file
-from mobman.model import robots
+from mobman.model import Mount, robots
 from mobman.model.tasks import Position
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "planar_robot.toml"
@@ -54,6 +54,18 @@ mount = [0.0, -0.2, 0.0, 3.141592653589793]
     np.testing.assert_allclose(
         xi, [-0.5, -0.2, 0.0], atol=1e-12
     )  # mounted backwards: 0.4 m link + 0.1 m tool
+
+
+def test_a_built_in_robot_s_params_mount_its_arm():
+    data = {"robot": {"name": "korayem-planar", "params": {"l1": 0.6, "mount.x": 0.1, "mount.yaw": 0.5}}}
+    robot = robot_file.robot_table(data)
+    assert robot == robots.design("korayem-planar", {"l1": 0.6, "mount.x": 0.1, "mount.yaw": 0.5})
+    assert robot.mounts[0] == Mount(0.1, 0.0, 0.0, 0.5)  # korayem's own mount (l0, 0, 0) replaced
+    data["robot"]["params"] = {"mount.w": 1.0}
+    with pytest.raises(
+        InputError, match="robot: robot korayem-planar: unknown parameter 'mount.w'; allowed: l0"
+    ):
+        robot_file.robot_table(data)
 
 
 def test_analyze_accepts_a_robot_file(capsys):

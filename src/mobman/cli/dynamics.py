@@ -113,7 +113,8 @@ def _inertials(data: dict, robot: MobileManipulator, urdf: UrdfModel | None) -> 
     if urdf is not None and not any(k in data for k in ("platform", "wheel", "links")):
         g_x, g_y, g_z = _vector(data, "gravity", "spec", (3,), (0.0, 0.0, -9.81))
         model = dyn.DynamicModel.from_urdf(urdf, (g_x, g_y, g_z))
-        return replace(model, payload=_payload(data, robot))
+        # the robot as [robot] made it: the URDF's, its arm perhaps mounted elsewhere (a mount has no mass)
+        return replace(model, robot=robot, payload=_payload(data, robot))
     platform = fields.table(data, "platform", "platform")
     fields.keys(platform, "platform", ("mass", "inertia_z", "com"))
     body = fields.build(
@@ -276,7 +277,7 @@ def parse(data: dict, base: Path | None = None, max_steps: int = MAX_STEPS) -> L
     """Build a :class:`LoadSpec` from a TOML document already read into a dict (the motion is simulated)."""
     fields.keys(data, "spec", TOP_KEYS)
     urdf = robot_file.urdf_table(data, base)
-    robot = robot_file.robot_table(data, base) if urdf is None else urdf.robot
+    robot = robot_file.robot_table(data, base, urdf)
     model = _inertials(data, robot, urdf)
     actuators = _actuators(data, model.actuator_names, urdf)
     t, q, eta, motion = _motion(data, model.robot, max_steps, base)

@@ -157,14 +157,16 @@ def load(path: Path | str) -> MobileManipulator:
         return parse(data)
 
 
-def robot_table(data: dict, base: Path | None = None) -> MobileManipulator:
-    """The robot of the ``[robot]`` table: a built-in ``name`` with optional ``params`` (NAME = number), a
+def robot_table(data: dict, base: Path | None = None, urdf: "UrdfModel | None" = None) -> MobileManipulator:
+    """The robot of the ``[robot]`` table: a built-in ``name`` with optional ``params`` (NAME = number: its
+    constructor's and the first arm's mount, ``"mount.z" = 0.1``, :func:`mobman.model.robots.design`), a
     robot description ``file`` (this module's format), or a URDF ``file`` with its reading options
-    (:func:`urdf_table`); a file's path is relative to ``base``."""
+    (:func:`urdf_table`); a file's path is relative to ``base``. ``urdf``: what :func:`urdf_table` read of
+    the same table, taken instead of reading the file again."""
     entry = fields.table(data, "robot", "robot")
-    urdf = _urdf_file(entry, base)
-    if urdf is not None:
-        return _read_urdf(entry, urdf).robot
+    path = _urdf_file(entry, base)
+    if path is not None:
+        return (urdf or _read_urdf(entry, path)).robot
     fields.keys(entry, "robot", ("name", "params", "file"))
     if "file" in entry:
         if "name" in entry or "params" in entry:
@@ -177,7 +179,8 @@ def robot_table(data: dict, base: Path | None = None) -> MobileManipulator:
     if not isinstance(params, dict):
         raise InputError(f"robot.params: must be a table of NAME = number, got {params!r}")
     params = {k: fields.number(params, k, "robot.params") for k in params}
-    return fields.build("robot", robots.build, name=name, **params)
+    source = name if urdf is None else urdf.robot  # a real robot's, read already
+    return fields.build("robot", robots.design, source=source, params=params)
 
 
 def urdf_table(data: dict, base: Path | None = None) -> "UrdfModel | None":
