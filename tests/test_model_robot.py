@@ -76,6 +76,7 @@ def test_design_builds_the_robot_and_mounts_the_arm_it_names():
     assert robots.design(panda, {"mount.x": 0.1}).mounts == (Mount(x=0.1, z=0.4),)  # its own z kept
     dual = robots.design("yamamoto-dual-arm", {"mount.yaw": 1.0}, arm=1)
     assert dual.mounts[0] == robots.build("yamamoto-dual-arm").mounts[0] and dual.mounts[1].yaw == 1.0
+    assert dual.parameters == robots.build("yamamoto-dual-arm").parameters  # only the first arm's are kept
 
 
 def test_models_are_hashable_and_equal_by_value():

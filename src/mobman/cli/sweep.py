@@ -3,9 +3,10 @@
 ``--vary NAME=START:STOP:COUNT`` (evenly spaced values, both ends included) or ``--vary NAME=V1,V2,…`` once
 per varied parameter; ``--param NAME=VALUE`` fixes another. The parameters are a built-in robot's own (as
 ``mobman robots`` lists them) and, for every robot, built-in or a .toml or .urdf file, the scored arm's mount
-``mount.x``, ``mount.y``, ``mount.z`` (m) and ``mount.yaw`` (rad) in the platform frame. Each design is scored by the manipulability of
-its arm's tool over seeded random postures (``--samples``, ``--measure``, ``--level``), its horizontal reach
-and, with ``--bounds`` and ``--step``, the share of that box it reaches (``coverage``). ``--store`` keeps the
+``mount.x``, ``mount.y``, ``mount.z`` (m) and ``mount.yaw`` (rad) in the platform frame. Each design is
+scored by the manipulability of its arm's tool over seeded random postures (``--samples``, ``--measure``,
+``--level``), its horizontal reach and, with ``--bounds`` and ``--step``, the share of that box it reaches
+(``coverage``). ``--store`` keeps the
 designs in a Zarr store as they are computed (a stopped sweep is resumed by the same command);
 ``--scheduler`` computes them on a Dask cluster. The best designs by ``--rank-by`` are printed; exit status 3
 when no design could be built.

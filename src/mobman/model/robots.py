@@ -352,8 +352,9 @@ def design(
     """A design of a robot: the built-in robot ``source`` (its command-line name) built with its
     constructor's parameters among ``params``, or the robot ``source`` itself, with arm ``arm`` fixed to the
     platform as the :data:`MOUNT` parameters among ``params`` say (``{"mount.z": 0.3}``: its base 0.3 m above
-    the platform frame's origin), which join the robot's ``parameters``. ModelError names an unknown robot or parameter, a value the constructor
-    refuses, or an arm to mount that the robot does not have."""
+    the platform frame's origin). The first arm's mount parameters join the robot's ``parameters``, so that
+    a motion saved with it rebuilds it. ModelError names an unknown robot or parameter, a value the
+    constructor refuses, or an arm to mount that the robot does not have."""
     params = dict(params or {})
     if isinstance(source, str) and command_name(source) not in ROBOTS:
         build(source)  # the error naming the built-in robots
@@ -365,13 +366,12 @@ def design(
         )
     own = {k: v for k, v in params.items() if k not in MOUNT}
     robot = source if isinstance(source, MobileManipulator) else build(source, **own)
-    placed = {MOUNT[k]: float(v) for k, v in params.items() if k in MOUNT}
+    placed = {k: float(v) for k, v in params.items() if k in MOUNT}
     if not placed:
         return robot
     if not (isinstance(arm, int) and 0 <= arm < len(robot.arms)):
         raise ModelError(f"robot {robot.name}: arm {arm!r} to mount: the robot has {len(robot.arms)} arm(s)")
-    # the mount's parameters are kept with the constructor's: a motion saved with the robot rebuilds it
-    kept = {**dict(robot.parameters), **{k: float(v) for k, v in params.items() if k in MOUNT}}
-    return replace(
-        robot.with_mount(replace(robot.mounts[arm], **placed), arm), parameters=tuple(kept.items())
-    )
+    mounted = robot.with_mount(replace(robot.mounts[arm], **{MOUNT[k]: v for k, v in placed.items()}), arm)
+    if arm != 0:
+        return mounted
+    return replace(mounted, parameters=tuple({**dict(robot.parameters), **placed}.items()))
