@@ -157,7 +157,6 @@ def main(argv=None) -> int:
                 out = jax.block_until_ready(fn(i))
             return out
 
-        jax.block_until_ready(run())
         return best_time(run, REPEAT) / args.single
 
     jbar, _ = jax.block_until_ready(batched())

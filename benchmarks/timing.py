@@ -29,9 +29,24 @@ from typing import Callable, NamedTuple
 
 import jax
 
+WARMUP_SECONDS = 1.0
+"""Calls of a timed function before its timed calls run for this long (:data:`WARMUP_CALLS` at most)."""
+
+WARMUP_CALLS = 20
+"""Most calls of a timed function before its timed calls."""
+
 
 def best_time(fn: Callable[[], object], repeat: int) -> float:
-    """Best wall time in seconds of ``repeat`` calls of ``fn``, waiting for JAX's asynchronous results."""
+    """Best wall time in seconds of ``repeat`` calls of ``fn``, waiting for JAX's asynchronous results, after
+    calls that warm it up for :data:`WARMUP_SECONDS` (at most :data:`WARMUP_CALLS` of them): the first calls
+    of a process that writes large results run slower while the memory they write is touched for the first
+    time (on a virtual machine, up to twice as long for the first second of 100,000 configurations' J̄), so
+    every row is timed in the steady state of a process that has run it before."""
+    start = time.perf_counter()
+    for _ in range(WARMUP_CALLS):
+        jax.block_until_ready(fn())
+        if time.perf_counter() - start >= WARMUP_SECONDS:
+            break
     best = math.inf
     for _ in range(repeat):
         t0 = time.perf_counter()

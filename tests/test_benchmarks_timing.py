@@ -1,5 +1,5 @@
-"""benchmarks/timing.py: the fp64 peak the benchmarks' rooflines divide by, from what ``lscpu`` reports, and
-XLA's count of flops and bytes they print."""
+"""benchmarks/timing.py: the warm-up before the timed calls, the fp64 peak the benchmarks' rooflines divide by,
+from what ``lscpu`` reports, and XLA's count of flops and bytes they print."""
 
 from __future__ import annotations
 
@@ -10,6 +10,16 @@ import pytest
 from benchmark_timing import timing
 
 CORES = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def test_best_time_warms_up_before_its_timed_calls(monkeypatch):
+    calls = []
+    assert timing.best_time(lambda: calls.append(1), 3) >= 0.0
+    assert len(calls) == timing.WARMUP_CALLS + 3  # fast calls: the most warm-up calls, then the timed ones
+    monkeypatch.setattr(timing, "WARMUP_SECONDS", 0.0)
+    calls.clear()
+    timing.best_time(lambda: calls.append(1), 3)
+    assert len(calls) == 1 + 3  # no warm-up time asked: one call all the same (it compiles)
 
 
 @pytest.mark.parametrize(
