@@ -228,7 +228,7 @@ def test_load_robot_refuses_parameters_for_files(name, fragment):
         common.load_robot(name, ["mount.z=0.1", "l1=0.5"])
     _one_line(
         info,
-        "--param l1: a robot file takes only its arm's mount (mount.x, mount.y, mount.z, mount.yaw)",
+        "--param l1: a robot file takes only its arm's mount (mount.x, mount.y, mount.z, mount.yaw, mount.pitch",
         fragment,
     )
 

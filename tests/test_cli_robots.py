@@ -10,7 +10,14 @@ from mobman.model import robots
 def test_robots_json_lists_every_builtin_robot_with_its_defaults(capsys):
     main(["robots", "--json"])
     report = json.loads(capsys.readouterr().out)
-    assert report["every_robot"] == ["mount.x", "mount.y", "mount.z", "mount.yaw"]
+    assert report["every_robot"] == [
+        "mount.x",
+        "mount.y",
+        "mount.z",
+        "mount.yaw",
+        "mount.pitch",
+        "mount.roll",
+    ]
     entries = {e["name"]: e for e in report["robots"]}
     assert set(entries) == set(robots.ROBOTS)
     assert entries["korayem-planar"]["parameters"] == {"l0": 0.4, "l1": 0.5, "l2": 0.5}
@@ -22,4 +29,4 @@ def test_robots_table(capsys, monkeypatch):
     main(["robots"])
     out = capsys.readouterr().out
     assert all(name in out for name in robots.ROBOTS)
-    assert "also takes --param mount.x, mount.y, mount.z, mount.yaw" in out
+    assert "also takes --param mount.x, mount.y, mount.z, mount.yaw, mount.pitch, mount.roll" in out

@@ -56,6 +56,21 @@ mount = [0.0, -0.2, 0.0, 3.141592653589793]
     )  # mounted backwards: 0.4 m link + 0.1 m tool
 
 
+def test_a_mount_of_six_numbers_is_x_y_z_roll_pitch_yaw(tmp_path):
+    text = EXAMPLE.read_text().replace(
+        "mount = [0.0, 0.0, 0.0, 0.0]", "mount = [0.1, 0.2, 0.3, 0.4, -0.5, 0.6]"
+    )
+    assert text != EXAMPLE.read_text()
+    path = tmp_path / "tilted.toml"
+    path.write_text(text)
+    assert robot_file.load(path).mounts == (Mount(0.1, 0.2, 0.3, yaw=0.6, roll=0.4, pitch=-0.5),)
+    path.write_text(text.replace("0.6]", "0.6, 0.7]"))
+    with pytest.raises(
+        InputError, match=r"mount: 4 numbers \(x, y, z, yaw\) or 6 \(x, y, z, roll, pitch, yaw\)"
+    ):
+        robot_file.load(path)
+
+
 def test_a_built_in_robot_s_params_mount_its_arm():
     data = {"robot": {"name": "korayem-planar", "params": {"l1": 0.6, "mount.x": 0.1, "mount.yaw": 0.5}}}
     robot = robot_file.robot_table(data)

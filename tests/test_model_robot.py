@@ -8,9 +8,11 @@ import math
 import numpy as np
 import numpy.typing as npt
 import pytest
+from scipy.spatial.transform import Rotation
 
 import mobman
 from mobman import kinematics as K
+from mobman.io.urdf import load_urdf, write_urdf
 from mobman.model import (
     Arm,
     DifferentialDrive,
@@ -46,10 +48,14 @@ def rot_z(angle: npt.ArrayLike) -> np.ndarray:
     )
 
 
-def test_with_mount_moves_the_arm_rigidly_with_the_platform():
-    # the tool at P + R(θ)(m + R_z(yaw) a(q_a)), a(q_a) read off the robot's own mount (0, 0, 0.4), yaw 0
+@pytest.mark.parametrize(
+    "mount",
+    [Mount(0.1, -0.05, 0.5, yaw=math.pi / 2), Mount(0.2, 0.1, 0.6, yaw=-0.4, roll=0.3, pitch=-math.pi / 2)],
+)
+def test_with_mount_moves_the_arm_rigidly_with_the_platform(mount, tmp_path):
+    # the tool at P + R(θ)(m + R_m a(q_a)), a(q_a) read off the robot's own mount (0, 0, 0.4) unturned, and
+    # R_m = R_z(yaw) R_y(pitch) R_x(roll) by SciPy (extrinsic x, y, z: URDF's rpy)
     robot = robots.build("panda-differential")
-    mount = Mount(0.1, -0.05, 0.5, yaw=math.pi / 2)
     moved = robot.with_mount(mount)
     q = sample_configurations(robot, 64, seed=3)
     q[:4, 2] = [math.pi / 2, -math.pi / 2, math.pi, 0.0]
@@ -57,8 +63,12 @@ def test_with_mount_moves_the_arm_rigidly_with_the_platform():
     turn = rot_z(q[:, 2])
     tool = np.asarray(K.forward(robot, q, Position()))
     a = np.einsum("nji,nj->ni", turn, tool - platform) - [0.0, 0.0, 0.4]
-    expected = platform + np.einsum("nij,nj->ni", turn, [0.1, -0.05, 0.5] + a @ rot_z(math.pi / 2).T)
+    r_m = Rotation.from_euler("xyz", [mount.roll, mount.pitch, mount.yaw]).as_matrix()
+    expected = platform + np.einsum("nij,nj->ni", turn, [mount.x, mount.y, mount.z] + a @ r_m.T)
     np.testing.assert_allclose(K.forward(moved, q, Position()), expected, atol=1e-13)
+    # written as URDF (the mount in the first joint's origin xyz and rpy) and read back by yourdfpy
+    read = load_urdf(write_urdf(moved, tmp_path / "moved.urdf"), tip="tool_link")
+    np.testing.assert_allclose(K.forward(read, q, Position()), expected, atol=1e-12)
     assert moved.mounts == (mount,) and moved != robot and robot.mounts == (Mount(z=0.4),)
     with pytest.raises(mobman.InputError, match="arm must be in 0..0"):
         robot.with_mount(mount, arm=1)

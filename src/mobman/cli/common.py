@@ -254,8 +254,9 @@ def load_robot(
 ) -> MobileManipulator:
     """A built-in robot by name with --param overrides, a robot description file (a path ending in .toml), or
     a URDF file (a path ending in .urdf, read by :func:`mobman.io.urdf.load_urdf` with the ``urdf`` options,
-    :func:`urdf_options`). Every robot also takes the --param ``mount.x``, ``mount.y``, ``mount.z`` and
-    ``mount.yaw`` of arm ``arm``'s mount (:func:`mobman.model.robots.design`); a file takes no other."""
+    :func:`urdf_options`). Every robot also takes the --param ``mount.x``, ``mount.y``, ``mount.z``,
+    ``mount.yaw``, ``mount.pitch`` and ``mount.roll`` of arm ``arm``'s mount
+    (:func:`mobman.model.robots.design`); a file takes no other."""
     values = parse_params(params)
     if is_urdf_path(name) or name.endswith(".toml"):
         other = [key for key in values if key not in MOUNT]

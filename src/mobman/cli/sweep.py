@@ -3,7 +3,8 @@
 ``--vary NAME=START:STOP:COUNT`` (evenly spaced values, both ends included) or ``--vary NAME=V1,V2,…`` once
 per varied parameter; ``--param NAME=VALUE`` fixes another. The parameters are a built-in robot's own (as
 ``mobman robots`` lists them) and, for every robot, built-in or a .toml or .urdf file, the scored arm's mount
-``mount.x``, ``mount.y``, ``mount.z`` (m) and ``mount.yaw`` (rad) in the platform frame. Each design is
+``mount.x``, ``mount.y``, ``mount.z`` (m), ``mount.yaw``, ``mount.pitch`` and ``mount.roll`` (rad) in the
+platform frame. Each design is
 scored by the manipulability of its arm's tool over seeded random postures (``--samples``, ``--measure``,
 ``--level``), its horizontal reach and, with ``--bounds`` and ``--step``, the share of that box it reaches
 (``coverage``). ``--store`` keeps the
@@ -94,7 +95,8 @@ def sweep_command(
         ...,
         "--vary",
         help="NAME=START:STOP:COUNT or NAME=V1,V2,… (repeatable: one grid axis each). NAME: a built-in "
-        "robot's parameter, or the scored arm's mount.x, mount.y, mount.z (m), mount.yaw (rad).",
+        "robot's parameter, or the scored arm's mount.x, mount.y, mount.z (m), mount.yaw, mount.pitch, "
+        "mount.roll (rad).",
     ),
     params: list[str] | None = typer.Option(None, "--param", help="A fixed robot parameter NAME=VALUE."),
     arm: int = typer.Option(0, "--arm", help="The arm whose tool is scored (0 for the first)."),

@@ -20,7 +20,8 @@ A file names a platform, one or more arms given by DH tables, and where each arm
     velocity_max = [1.57, 1.57]      # optional, rad/s or m/s per joint
     limits = [[-3.1, 3.1], [-2.6, 2.6]]   # optional position limits per joint
     tool = [0.0, 0.0, 0.0]           # optional: tool point in the last link frame (m)
-    mount = [0.0, 0.0, 0.0, 0.0]     # optional: arm base x, y, z (m) and yaw (rad) in the platform frame
+    mount = [0.0, 0.0, 0.0, 0.0]     # optional: arm base x, y, z (m) and yaw (rad) in the platform frame,
+                                     # or x, y, z, roll, pitch, yaw (URDF's xyz and rpy)
 
 The ``[platform]`` keys are the fields of the platform's class (docs/platforms.md):
 
@@ -79,6 +80,19 @@ def _vector(entries: dict, key: str, field: str, size: int) -> list[float] | Non
     return [float(v) for v in values]
 
 
+def _mount(entries: dict, field: str) -> dict[str, float]:
+    """The ``mount`` entry as :class:`Mount` fields: x, y, z, yaw or x, y, z, roll, pitch, yaw."""
+    if "mount" not in entries:
+        return {}
+    values = fields.array(entries["mount"], f"{field}.mount")
+    names = {4: ("x", "y", "z", "yaw"), 6: ("x", "y", "z", "roll", "pitch", "yaw")}.get(values.size)
+    if values.ndim != 1 or names is None:
+        raise InputError(
+            f"{field}.mount: 4 numbers (x, y, z, yaw) or 6 (x, y, z, roll, pitch, yaw), got shape {values.shape}"
+        )
+    return {name: float(v) for name, v in zip(names, values)}
+
+
 def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
     if not isinstance(entries, dict):
         raise InputError(f"{field}: must be a table")
@@ -101,7 +115,7 @@ def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
                 f"{field}.limits: one [lower, upper] pair per joint ({n}), got shape {limits.shape}"
             )
     tool = _vector(entries, "tool", field, 3) or [0.0, 0.0, 0.0]
-    mount = _vector(entries, "mount", field, 4) or [0.0, 0.0, 0.0, 0.0]
+    mount = _mount(entries, field)
     arm = fields.build(
         field,
         CONVENTIONS[convention],
@@ -112,7 +126,7 @@ def _arm(entries: dict, field: str) -> tuple[Arm, Mount]:
         velocity_limits=_vector(entries, "velocity_max", field, n),
         name=fields.text(entries, "name", field, field),
     )
-    return arm, fields.build(f"{field}.mount", Mount, x=mount[0], y=mount[1], z=mount[2], yaw=mount[3])
+    return arm, fields.build(f"{field}.mount", Mount, **mount)
 
 
 def _platform(entries: dict) -> Platform:

@@ -43,22 +43,26 @@ class Mount:
     """Fixed transform from the platform frame to an arm's base frame.
 
     ``Mount(a, b, c)`` puts the arm base at (a, b, c) in the platform frame (Nait-Chabane's a, b, c;
-    Korayem's l0 is ``Mount(l0)``), optionally turned by ``yaw`` about the vertical axis.
+    Korayem's l0 is ``Mount(l0)``), optionally turned by ``yaw`` about the vertical axis and tilted by
+    ``pitch`` and ``roll``: its rotation is R_z(yaw) R_y(pitch) R_x(roll), URDF's ``rpy`` (rad).
     """
 
     x: float = 0.0
     y: float = 0.0
     z: float = 0.0
     yaw: float = 0.0
+    roll: float = 0.0
+    pitch: float = 0.0
 
     def __post_init__(self) -> None:
-        for name in ("x", "y", "z", "yaw"):
+        for name in ("x", "y", "z", "yaw", "roll", "pitch"):
             if not math.isfinite(getattr(self, name)):
                 raise ModelError(f"Mount: {name} must be finite, got {getattr(self, name)!r}")
 
     @property
     def transform(self) -> Transform:
-        return spatial.transform(spatial.rot_z(self.yaw), (self.x, self.y, self.z))
+        rotation = spatial.rot_z(self.yaw) @ spatial.rot_y(self.pitch) @ spatial.rot_x(self.roll)
+        return spatial.transform(rotation, (self.x, self.y, self.z))
 
 
 @dataclass(frozen=True)

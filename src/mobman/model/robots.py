@@ -333,9 +333,17 @@ def build(name: str, **params: float) -> MobileManipulator:
     return factory(**params)
 
 
-MOUNT = {"mount.x": "x", "mount.y": "y", "mount.z": "z", "mount.yaw": "yaw"}
+MOUNT = {
+    "mount.x": "x",
+    "mount.y": "y",
+    "mount.z": "z",
+    "mount.yaw": "yaw",
+    "mount.pitch": "pitch",
+    "mount.roll": "roll",
+}
 """The parameters every robot takes besides its constructor's: the fields of an arm's :class:`Mount`, the
-pose of its base in the platform frame (m, and rad about the vertical), each replacing the robot's own."""
+pose of its base in the platform frame (m; rad, URDF's roll, pitch and yaw), each replacing the robot's
+own."""
 
 
 def parameter_names(source: str | MobileManipulator) -> list[str]:

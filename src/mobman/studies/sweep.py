@@ -4,7 +4,8 @@ Every combination of the values given for the parameters is one design. The para
 robot's constructor for a built-in robot (link lengths, offsets, velocity limits: the keyword parameters of a
 robot of :mod:`mobman.model.robots`, as ``mobman robots`` lists them) and, for every robot, built-in or read
 from a file, the pose of the scored arm's mount in the platform frame (:data:`mobman.model.robots.MOUNT`:
-``mount.x``, ``mount.y``, ``mount.z`` in m and ``mount.yaw`` in rad, each replacing the robot's own value):
+``mount.x``, ``mount.y``, ``mount.z`` in m and ``mount.yaw``, ``mount.pitch``, ``mount.roll`` in rad, each
+replacing the robot's own value):
 where to fix the arm on the platform. A robot read from a URDF file has its arm mounted at the platform
 frame's origin, so there they are offsets from the file's own placement (``mount.z = 0.1`` raises TIAGo's
 torso and arm by 10 cm). Each design is scored by
