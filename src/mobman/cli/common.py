@@ -242,6 +242,19 @@ def progress_bar(label: str, show: bool) -> Iterator[Callable[[float], None] | N
         yield lambda f: progress.update(bar, completed=f)
 
 
+def study_arguments(
+    store: Path | None, chunk: int | None, scheduler: str | None, bar: Callable[[float], None] | None
+) -> dict:
+    """The keyword arguments of a study's function (:func:`mobman.studies.store.run`'s ``store``, ``chunk``,
+    ``scheduler`` and ``progress``) from its command's options and progress bar (:func:`progress_bar`)."""
+    return {
+        "store": None if store is None else str(store),
+        "chunk": chunk,
+        "scheduler": scheduler,
+        "progress": None if bar is None else lambda done, total: bar(done / total),
+    }
+
+
 def refuse_urdf_options(urdf: dict | None, what: str) -> None:
     """One line naming the URDF options given (:func:`urdf_options`) for ``what``, which is not a URDF file."""
     if urdf:

@@ -26,6 +26,7 @@ from mobman.cli.common import (
     not_reached,
     progress_bar,
     resumable,
+    study_arguments,
     urdf_options,
 )
 from mobman.errors import InputError
@@ -135,10 +136,7 @@ def map_command(
                 measure=measure,
                 level=level,
                 seed=seed,
-                store=None if store is None else str(store),
-                chunk=chunk,
-                scheduler=scheduler,
-                progress=None if bar is None else lambda done, total: bar(done / total),
+                **study_arguments(store, chunk, scheduler, bar),
             )
         except InputError as exc:
             raise InputError(_as_option(str(exc))) from None

@@ -33,6 +33,7 @@ from mobman.cli.common import (
     progress_bar,
     refuse_urdf_options,
     resumable,
+    study_arguments,
     urdf_options,
 )
 from mobman.errors import InputError
@@ -156,10 +157,7 @@ def sweep_command(
                 seed=seed,
                 bounds=box,
                 step=step,
-                store=None if store is None else str(store),
-                chunk=chunk,
-                scheduler=scheduler,
-                progress=None if bar is None else lambda done, total: bar(done / total),
+                **study_arguments(store, chunk, scheduler, bar),
             )
         except InputError as exc:
             raise InputError(_as_option(str(exc))) from None
