@@ -35,7 +35,6 @@ from mobman.model.tasks import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, PlanResult, plan
 from mobman.planning.basis import Fourier
 from mobman.planning.endpoint import PlanningSetting, configuration_path, dexterity
-from mobman.planning.figures import plot_convergence, plot_paths
 
 MAX_HARMONICS = 100
 """Largest accepted --harmonics (2·100 + 1 coefficients per control)."""
@@ -217,6 +216,8 @@ def plan_command(
         "error_history": result.errors,
     }
     if out is not None:
+        from mobman.planning.figures import plot_convergence, plot_paths  # matplotlib: only with --out
+
         with results_folder(out, "plan") as staging:
             t, q = configuration_path(setting, result.z, q0)
             trajectories.write(

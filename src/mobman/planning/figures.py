@@ -1,20 +1,17 @@
-"""Figures of planned motions (Tchoń et al. figs. 2–7), matplotlib with the Agg backend."""
+"""Figures of planned motions (Tchoń et al. figs. 2–7): matplotlib figures without pyplot's state, as in
+:mod:`mobman.viz`."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Mapping, Sequence
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
 import numpy.typing as npt
 from matplotlib.figure import Figure
 
-from mobman.io.output import save_figure  # noqa: E402
-from mobman.planning.endpoint import PlanningSetting, trajectory  # noqa: E402
+from mobman.io.output import save_figure
+from mobman.planning.endpoint import PlanningSetting, trajectory
 
 
 def plot_paths(
@@ -28,7 +25,8 @@ def plot_paths(
     """Platform path (q1, q2) and end-effector path (y1, y2) in the plane for the configuration z (figs.
     2–4)."""
     _, q_p, y = trajectory(setting, z, q0)
-    fig, ax = plt.subplots(figsize=(5.5, 5))
+    fig = Figure(figsize=(5.5, 5))
+    ax = fig.subplots()
     ax.plot(q_p[:, 0], q_p[:, 1], "-", color="tab:blue", label="platform (q1, q2)")
     ax.plot(y[:, 0], y[:, 1], "--", color="tab:red", label="end effector (y1, y2)")
     ax.plot(q_p[0, 0], q_p[0, 1], "o", color="tab:blue", label="platform start")
@@ -47,7 +45,8 @@ def plot_convergence(
     histories: Mapping[str, Sequence[float] | np.ndarray], tol: float, title: str, path: Path
 ) -> Path:
     """log10 ‖e‖ versus iteration, one line per labelled run (figs. 5–7)."""
-    fig, ax = plt.subplots(figsize=(6.5, 4))
+    fig = Figure(figsize=(6.5, 4))
+    ax = fig.subplots()
     for label, history in histories.items():
         errors = np.asarray(history, float)
         ax.plot(np.arange(errors.size), np.log10(np.maximum(errors, 1e-300)), label=label, lw=1.2)
@@ -67,5 +66,4 @@ def _save(fig: Figure, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
     save_figure(fig, path, dpi=110)
-    plt.close(fig)
     return path
