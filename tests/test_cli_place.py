@@ -61,6 +61,24 @@ def test_no_base_reaching_the_target_exits_3_with_the_candidates_reported(capsys
     )
 
 
+def test_keep_out_regions_leave_out_the_bases_whose_platform_would_overlap_them(capsys):
+    table = [0.7, 1.6, 0.0, 1.2]
+    args = ["place", "tiago", "--target", "1,0.5,0.8", *GRID, "--top", "20", "--json"]
+    code, out, err = _run([*args, "--keep-out", ",".join(map(str, table))], capsys)
+    assert code == 0, err
+    report = json.loads(out)
+    radius = report["footprint"]["radius"]
+    assert radius == pytest.approx(0.27, abs=0.005)  # TIAGo's base, 54 cm across
+    assert 0 < report["blocked"] < report["candidates"] == 16
+    for entry in report["ranking"]:  # TIAGo's disc is centred on its platform's origin (within 5 mm)
+        x, y, _ = entry["base"]
+        gap = np.hypot(max(table[0] - x, 0, x - table[1]), max(table[2] - y, 0, y - table[3]))
+        assert gap >= radius - 0.005
+    code, out, err = _run([*args, "--keep-out", "-5,5,-5,5", "--footprint", "0.1"], capsys)
+    assert code == 3 and json.loads(out)["blocked"] == 16
+    assert err.strip() == "warning: mobman place: every base of the 16 is blocked by --keep-out"
+
+
 @pytest.mark.parametrize(
     ("options", "field"),
     [
@@ -78,6 +96,19 @@ def test_no_base_reaching_the_target_exits_3_with_the_candidates_reported(capsys
         (["--target", "1,0.5,0.8", "--level", "wheels"], "--level must be one of"),
         (["--target", "1,0.5,0.8", "--top", "0"], "--top"),
         (["--target", "1,0.5,0.8", "--centre", "1"], "--centre"),
+        (["--target", "1,0.5,0.8", "--keep-out", "1,2,3"], "--keep-out: expected 4 values, got 3"),
+        (
+            ["--target", "1,0.5,0.8", "--keep-out", "2,1,0,1"],
+            "--keep-out must have x_min < x_max and y_min < y_max (x_min, x_max, y_min, y_max), got 2, 1, 0, 1",
+        ),
+        (
+            ["--target", "1,0.5,0.8", "--keep-out", "0,1,0,1", "--footprint", "0"],
+            "--footprint radius must be > 0",
+        ),
+        (
+            ["--target", "1,0.5,0.8", "--keep-out", "0,1,0,1", "--footprint", "1,2"],
+            "--footprint must be a radius",
+        ),
     ],
 )
 def test_bad_options_are_one_line_and_exit_2(capsys, options, field):

@@ -2,12 +2,15 @@
 
 Tries every platform pose of a polar grid around the target (``--radii`` × ``--bearings`` × ``--headings``),
 solves the arm's inverse kinematics from ``--starts`` postures within the joint limits for each, and ranks the
-bases that reach the target by a manipulability measure of the posture (``--measure``, ``--level``). Exit
-status 3 when no base reaches it (the candidates are still printed).
+bases that reach the target by a manipulability measure of the posture (``--measure``, ``--level``).
+``--keep-out`` regions of the floor (repeatable) leave out the bases from which the platform, covered by the
+disc of ``--footprint`` (by default the one covering the platform's drawn shapes), would overlap one of them
+(:mod:`mobman.studies.floor`). Exit status 3 when no base reaches it (the candidates are still printed).
 """
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +38,19 @@ def _entry(result: Placement, k: int) -> dict[str, Any]:
     }
 
 
-OPTIONS = ("radii", "bearings", "headings", "starts", "iterations", "tolerance", "measure", "level", "target")
+OPTIONS = (
+    "radii",
+    "bearings",
+    "headings",
+    "starts",
+    "iterations",
+    "tolerance",
+    "measure",
+    "level",
+    "target",
+    "keep_out",
+    "footprint",
+)
 """The keyword arguments of :func:`mobman.studies.placement.place` that are options of the command."""
 
 
@@ -45,7 +60,7 @@ def _as_option(message: str) -> str:
     keyword = message.split(" ", 1)[0]
     if keyword == "reachability:":
         return "--map:" + message[len(keyword) :]
-    return f"--{message}" if keyword in OPTIONS else message
+    return f"--{keyword.replace('_', '-')}{message[len(keyword) :]}" if keyword in OPTIONS else message
 
 
 @app.command("place")
@@ -87,6 +102,18 @@ def place_command(
         help="A reachability map's store (mobman map --store) whose cells give the candidate bases for a point "
         "target x,y,z (inverse reachability), scored by its measure.",
     ),
+    keep_out: list[str] | None = typer.Option(
+        None,
+        "--keep-out",
+        help="A floor rectangle x_min,x_max,y_min,y_max (m) the platform may not overlap, e.g. a table "
+        "(repeatable).",
+    ),
+    footprint: str | None = typer.Option(
+        None,
+        "--footprint",
+        help="The disc covering the platform: radius or radius,x,y in the platform frame (m); default: the "
+        "disc covering its drawn shapes.",
+    ),
     top: int = typer.Option(5, "--top", help="Bases listed, best first (≥ 1)."),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     tip: list[str] | None = UrdfOption.tip,
@@ -109,7 +136,12 @@ def place_command(
         "level": level,
     }
     given: dict[str, Any] = {name: value for name, value in grid.items() if value is not None}
-    solver: dict[str, Any] = {"headings": headings, "tolerance": tolerance}
+    solver: dict[str, Any] = {
+        "headings": headings,
+        "tolerance": tolerance,
+        "keep_out": [parse_vector(region, "--keep-out", 4) for region in keep_out or ()],
+        "footprint": None if footprint is None else parse_vector(footprint, "--footprint"),
+    }
     if iterations is not None:
         solver["iterations"] = iterations
     try:
@@ -138,6 +170,8 @@ def place_command(
         "tolerance": tolerance,
         "candidates": int(result.bases.shape[0]),
         "reached": int(result.reached.sum()),
+        "blocked": int(np.sum(result.blocked)),
+        "footprint": None if result.footprint is None else asdict(result.footprint),
         "best": ranking[0] if ranking else None,
         "ranking": ranking,
     }
@@ -147,22 +181,27 @@ def place_command(
         _print(report, robot_name, robot.n_platform)
     if not ranking and not report["candidates"]:
         not_reached("place", "no reached cell of the map lies within half a step of the target's height")
+    if not ranking and np.all(result.blocked):
+        not_reached("place", f"every base of the {report['candidates']} is blocked by --keep-out")
     if not ranking:
-        closest = float(np.min(result.error))
+        closest = float(np.min(result.error[~result.blocked]))
         advice = (
             "a map over more of the space" if reachability is not None else "other --radii or more --starts"
         )
         not_reached(
             "place",
-            f"no base of the {report['candidates']} reaches the target (closest error {closest:.3e}); try "
-            f"{advice}",
+            f"no base of the {report['candidates']} reaches the target (closest error {closest:.3e}"
+            + (f", {report['blocked']} blocked by --keep-out" if report["blocked"] else "")
+            + f"); try {advice}",
         )
 
 
 def _print(report: dict, robot_name: str, n_platform: int) -> None:
+    blocked = f", {report['blocked']} blocked by --keep-out" if report["footprint"] is not None else ""
     table = Table(
         title=f"mobman place {robot_name}: {report['reached']} of {report['candidates']} bases reach "
-        f"{np.array2string(np.asarray(report['target']), precision=4)} ({report['level']} {report['measure']})"
+        f"{np.array2string(np.asarray(report['target']), precision=4)} ({report['level']} {report['measure']}"
+        f"{blocked})"
     )
     for column in ("rank", "x", "y", "θ", report["measure"], "error", "q (arm)"):
         table.add_column(column, overflow="fold")

@@ -10,12 +10,17 @@ A reached placement is scored by a manipulability measure at its posture (:mod:`
 by default Yoshikawa's w of the arm's Jacobian J_a, which says how well the arm moves the task with the
 platform parked, or of the whole system's J̄ = J S (``level="system"``; Bayle eq. 2), which also counts what
 the platform's admissible velocities add (Bayle; Nait-Chabane).
+
+``keep_out`` regions of the floor (tables, shelves, walls; :mod:`mobman.studies.floor`) leave out the bases
+from which the disc covering the platform overlaps one of them: such a base is ``blocked`` and never reaches
+the target, whatever its arm could do from there.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -27,6 +32,7 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Position, Task
 from mobman.redundancy import sample_configurations
 from mobman.studies import options
+from mobman.studies.floor import FootprintDisc, KeepOut, blocked, footprint_disc, keep_out_regions
 from mobman.studies.maps import ReachabilityMap, robot_digest
 from mobman.studies.options import LEVELS
 from mobman.studies.reaching import best, reach, starting_postures
@@ -49,7 +55,9 @@ class Placement:
     ``bases`` (N, 3): the platform poses (x, y, θ); ``q`` (N, n_q): the posture kept for each (the
     platform's further coordinates, such as a steering angle, at 0; NaN where J was undefined from every
     start); ``error`` (N,): the norm of the task's error there (inf for those); ``reached`` (N,): error ≤
-    tolerance; ``score`` (N,): the measure at the posture where reached, 0 where not. ``best``: the index of
+    tolerance and not blocked; ``score`` (N,): the measure at the posture where reached, 0 where not;
+    ``blocked`` (N,): the platform there would overlap a keep-out region (all False without any), and
+    ``footprint`` the disc that covered it (None without keep-out regions). ``best``: the index of
     the reached base with the highest score, None when no base reaches the target. ``n_platform``: the
     platform's coordinates at the start of each row of ``q``; ``revolute``: which of the arms' coordinates
     are angles of revolute joints.
@@ -65,7 +73,9 @@ class Placement:
     level: str
     tolerance: float
     n_platform: int
+    blocked: np.ndarray
     revolute: tuple[bool, ...] = ()
+    footprint: FootprintDisc | None = None
 
     @property
     def best(self) -> int | None:
@@ -150,6 +160,8 @@ def place(
     measure: str = "yoshikawa",
     level: str = "arm",
     seed: int = 0,
+    keep_out: Sequence[KeepOut | Sequence[float]] = (),
+    footprint: FootprintDisc | float | Sequence[float] | None = None,
 ) -> Placement:
     """Try every platform pose of :func:`candidate_bases` for the task target ξ* ``target`` (m,) (module
     notes) and score the reached ones.
@@ -159,7 +171,10 @@ def place(
     it, by default 8 from 0 to :func:`reach_radius`; ``starts``: starting postures per base (the arm's
     coordinates at 0 clipped to the limits, then seeded random ones over the limits,
     :func:`mobman.redundancy.sample_configurations`); ``measure``: one of
-    :data:`mobman.manipulability.MEASURES`; ``level``: ``"arm"`` (J_a) or ``"system"`` (J̄).
+    :data:`mobman.manipulability.MEASURES`; ``level``: ``"arm"`` (J_a) or ``"system"`` (J̄); ``keep_out``:
+    regions of the floor (:class:`mobman.studies.floor.KeepOut` or x_min, x_max, y_min, y_max) the platform's
+    ``footprint`` may not overlap (a :class:`mobman.studies.floor.FootprintDisc`, a radius or radius, x, y;
+    by default :func:`mobman.studies.floor.footprint_disc` of the robot).
     """
     task = K.resolve_task(robot, task)
     target = _vector(target, "target", task.dim, ", ".join(task.names))
@@ -170,26 +185,13 @@ def place(
     options.count(iterations, "iterations")
     _check_tolerance(tolerance)
     options.scoring(measure, level)
+    floor = _floor(robot, keep_out, footprint)
     bases = candidate_bases(centre, radii, bearings, headings)
     q, error, score = best(
         robot, *reach(robot, bases, target, starting_postures(robot, starts, seed), task, iterations),
         tolerance, task, measure, level,
     )  # fmt: skip
-    reached = error <= tolerance
-    score = np.where(reached, score, 0.0)
-    return Placement(
-        target=np.asarray(target),
-        bases=bases,
-        q=q,
-        error=error,
-        reached=reached,
-        score=score,
-        measure=measure,
-        level=level,
-        tolerance=float(tolerance),
-        n_platform=robot.n_platform,
-        revolute=_revolute(robot),
-    )
+    return _placement(robot, target, bases, q, error, score, measure, level, tolerance, *floor)
 
 
 def place_with_map(
@@ -200,6 +202,8 @@ def place_with_map(
     headings: int = 16,
     iterations: int = 20,
     tolerance: float = 1e-6,
+    keep_out: Sequence[KeepOut | Sequence[float]] = (),
+    footprint: FootprintDisc | float | Sequence[float] | None = None,
 ) -> Placement:
     """Base placement from a reachability map of the robot's arm (:mod:`mobman.studies.maps`): inverse
     reachability (Vahrenkamp, Asfour, Dillmann, ICRA 2013).
@@ -211,12 +215,14 @@ def place_with_map(
     least-squares steps within the joint limits (:mod:`mobman.studies.reaching`) take the tool onto the
     target ``p`` (x, y, z); a base reaches it within ``tolerance``. Bases are scored by the map's measure and
     level. No inverse kinematics from random starts: a map computed once serves any number of targets.
+    ``keep_out`` and ``footprint``: as in :func:`place`.
     """
     if reachability.digest != robot_digest(robot):
         raise InputError(f"reachability: the map was computed for another robot than {robot.name!r}")
     target = _vector(target, "target", 3, "x, y, z")
     headings, iterations = options.count(headings, "headings"), options.count(iterations, "iterations")
     _check_tolerance(tolerance)
+    floor = _floor(robot, keep_out, footprint)
     half = 0.5 * reachability.step + 1e-9
     centres = reachability.centres()
     near = reachability.reached & (np.abs(centres[..., 2] - target[2]) <= half)
@@ -239,19 +245,53 @@ def place_with_map(
             reachability.measure, reachability.level,
         )
     )  # fmt: skip
-    reached = error <= tolerance
+    return _placement(
+        robot, target, bases, q, error, score, reachability.measure, reachability.level, tolerance, *floor
+    )
+
+
+def _floor(
+    robot: MobileManipulator,
+    keep_out: Sequence[KeepOut | Sequence[float]],
+    footprint: FootprintDisc | float | Sequence[float] | None,
+) -> tuple[tuple[KeepOut, ...], FootprintDisc | None]:
+    """The keep-out regions, checked, and the disc that covers the platform (None without regions)."""
+    regions = keep_out_regions(keep_out)
+    if not regions:
+        return regions, None
+    return regions, footprint_disc(robot) if footprint is None else FootprintDisc.of(footprint)
+
+
+def _placement(
+    robot: MobileManipulator,
+    target: np.ndarray,
+    bases: np.ndarray,
+    q: np.ndarray,
+    error: np.ndarray,
+    score: np.ndarray,
+    measure: str,
+    level: str,
+    tolerance: float,
+    regions: tuple[KeepOut, ...],
+    footprint: FootprintDisc | None,
+) -> Placement:
+    """The :class:`Placement` of the solved candidates: reached where within ``tolerance`` and not blocked."""
+    off_limits = blocked(bases, footprint, regions) if footprint is not None else np.zeros(len(bases), bool)
+    reached = (error <= tolerance) & ~off_limits
     return Placement(
-        target=target,
+        target=np.asarray(target),
         bases=bases,
         q=q,
         error=error,
         reached=reached,
         score=np.where(reached, score, 0.0),
-        measure=reachability.measure,
-        level=reachability.level,
+        measure=measure,
+        level=level,
         tolerance=float(tolerance),
         n_platform=robot.n_platform,
         revolute=_revolute(robot),
+        blocked=off_limits,
+        footprint=footprint,
     )
 
 
