@@ -97,6 +97,7 @@ def test_keep_out_regions_leave_out_the_bases_whose_platform_would_overlap_them(
         (["--target", "1,0.5,0.8", "--top", "0"], "--top"),
         (["--target", "1,0.5,0.8", "--centre", "1"], "--centre"),
         (["--target", "1,0.5,0.8", "--keep-out", "1,2,3"], "--keep-out: expected 4 values, got 3"),
+        (["--target", "1,0.5,0.8", "--footprint", "0.3"], "--footprint: give it with --keep-out"),
         (
             ["--target", "1,0.5,0.8", "--keep-out", "2,1,0,1"],
             "--keep-out must have x_min < x_max and y_min < y_max (x_min, x_max, y_min, y_max), got 2, 1, 0, 1",

@@ -196,3 +196,38 @@ URDF_WITHOUT_LINK_INERTIALS = """<robot name="bare">
   <joint name="j2" type="fixed"><parent link="upper"/><child link="tool"/><origin xyz="0.4 0 0"/></joint>
 </robot>
 """
+
+
+def test_keep_out_regions_are_drawn_on_the_floor(artifacts, capsys):
+    """A table in front of the platform: its translucent red patch covers thousands of pixels that the same
+    view without it does not have (red well above green, green and blue alike: not the links' orange)."""
+
+    def red_patch(png: Path) -> int:
+        rgb = np.asarray(Image.open(png).convert("RGB"), dtype=float)[:, :900]
+        red, green, blue = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+        return int(((red - green > 50) & (np.abs(green - blue) < 25)).sum())
+
+    shots = []
+    for name, extra in (
+        ("view_keep_out.png", ["--keep-out", "-1,-0.45,-0.5,0.5"]),
+        ("view_no_keep_out.png", []),
+    ):
+        png = artifacts / name
+        main(["view", "bayle-rrp", "--port", "0", *extra, "--screenshot", str(png)])
+        shots.append(red_patch(png))
+    assert shots[0] > 3000 and shots[1] < 0.1 * shots[0], shots
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--keep-out", "1,2,3"], "--keep-out: expected 4 values, got 3"),
+        (["--keep-out", "1,1,0,1"], "--keep-out must have x_min < x_max and y_min < y_max"),
+        (["--keep-out", "0,1,0,1", "--footprint", "-1"], "--footprint radius must be > 0 (m), got -1"),
+        (["--footprint", "0.3"], "--footprint: give it with --keep-out"),
+    ],
+)
+def test_bad_floor_options_are_one_line(options, message, capsys):
+    code, err = _run(["view", "bayle-rrp", "--port", "0", *options], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and message in err, err

@@ -356,6 +356,26 @@ def test_a_reachability_map_is_drawn_on_the_platform_coloured_by_its_score():
             v.show_map(points[:, :2], score)
 
 
+def test_keep_out_regions_lie_on_the_floor_and_the_footprint_moves_with_the_platform():
+    with Viewer(robots.bayle_planar(), port=0) as v:
+        v.show_floor([[1.0, 2.0, -1.0, 1.0], [-1.0, -0.5, 0.0, 3.0]], (0.3, 0.1, 0.0))
+        ground = v.nodes["/ground"].position[2]
+        patch = np.asarray(v.nodes["/keep_out/0"].vertices)
+        np.testing.assert_allclose(patch.min(axis=0), [1.0, -1.0, ground], atol=1e-6)
+        np.testing.assert_allclose(patch.max(axis=0), [2.0, 1.0, ground + 0.01], atol=1e-6)
+        np.testing.assert_allclose(np.asarray(v.nodes["/keep_out/1"].vertices).min(axis=0)[:2], [-1.0, 0.0])
+        # the disc is a child of the platform's node, so it moves with it: in the platform frame, about (0.1, 0)
+        disc = np.asarray(v.nodes["/robot/platform/footprint"].vertices)
+        distance = np.hypot(disc[:, 0] - 0.1, disc[:, 1])
+        assert distance.max() == pytest.approx(0.3, abs=1e-6) and disc[:, 2].min() >= ground
+        for regions, footprint in (
+            ([[2.0, 1.0, 0.0, 1.0]], (0.3, 0.0, 0.0)),
+            ([[0, 1, 0, 1]], (0.0, 0.0, 0.0)),
+        ):
+            with pytest.raises(InputError, match="show_floor: keep_out must be rows"):
+                v.show_floor(regions, footprint)
+
+
 def test_mobman_view_draws_a_map_store_and_refuses_another_robot_s(tmp_path, cli_run):
     path = tmp_path / "map.zarr"
     from mobman.studies.maps import reachability_map

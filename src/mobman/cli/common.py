@@ -25,6 +25,7 @@ from mobman.io.spec import read_text
 from mobman.io.urdf import is_urdf_path
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import MOUNT, command_name, design
+from mobman.studies.floor import FootprintDisc, KeepOut, footprint_disc, keep_out_regions
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
@@ -65,6 +66,44 @@ class UrdfOption:
     lock = typer.Option(
         None, "--lock", help="URDF file: hold a joint at a value, JOINT=VALUE (rad or m; repeatable)."
     )
+
+
+class FloorOption:
+    """The command-line options of :func:`floor_arguments` (``mobman place``, ``mobman view``)."""
+
+    keep_out = typer.Option(
+        None,
+        "--keep-out",
+        help="A floor rectangle x_min,x_max,y_min,y_max (m) the platform may not overlap, e.g. a table "
+        "(repeatable).",
+    )
+    footprint = typer.Option(
+        None,
+        "--footprint",
+        help="With --keep-out: the disc covering the platform, radius or radius,x,y in the platform frame (m); "
+        "default: the disc covering its drawn shapes.",
+    )
+
+
+def floor_arguments(
+    robot: MobileManipulator, keep_out: list[str] | None, footprint: str | None
+) -> tuple[tuple[KeepOut, ...], FootprintDisc | None]:
+    """``--keep-out`` and ``--footprint`` checked: the keep-out regions and the disc covering the platform (by
+    default :func:`mobman.studies.floor.footprint_disc` of ``robot``), or no region and None."""
+    if not keep_out:
+        if footprint is not None:
+            raise InputError("--footprint: give it with --keep-out (the regions it keeps the platform off)")
+        return (), None
+    try:
+        regions = keep_out_regions([parse_vector(region, "--keep-out", 4) for region in keep_out])
+        disc = (
+            footprint_disc(robot)
+            if footprint is None
+            else FootprintDisc.of(parse_vector(footprint, "--footprint"))
+        )
+    except InputError as exc:  # "keep_out must …", "footprint radius must …" as the options
+        raise InputError("--" + str(exc).replace("_", "-", 1)) from None
+    return regions, disc
 
 
 URDF_FLAGS = {

@@ -20,7 +20,15 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import UrdfOption, load_map, load_robot, not_reached, urdf_options
+from mobman.cli.common import (
+    FloorOption,
+    UrdfOption,
+    floor_arguments,
+    load_map,
+    load_robot,
+    not_reached,
+    urdf_options,
+)
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
@@ -38,19 +46,7 @@ def _entry(result: Placement, k: int) -> dict[str, Any]:
     }
 
 
-OPTIONS = (
-    "radii",
-    "bearings",
-    "headings",
-    "starts",
-    "iterations",
-    "tolerance",
-    "measure",
-    "level",
-    "target",
-    "keep_out",
-    "footprint",
-)
+OPTIONS = ("radii", "bearings", "headings", "starts", "iterations", "tolerance", "measure", "level", "target")
 """The keyword arguments of :func:`mobman.studies.placement.place` that are options of the command."""
 
 
@@ -60,7 +56,7 @@ def _as_option(message: str) -> str:
     keyword = message.split(" ", 1)[0]
     if keyword == "reachability:":
         return "--map:" + message[len(keyword) :]
-    return f"--{keyword.replace('_', '-')}{message[len(keyword) :]}" if keyword in OPTIONS else message
+    return f"--{message}" if keyword in OPTIONS else message
 
 
 @app.command("place")
@@ -102,18 +98,8 @@ def place_command(
         help="A reachability map's store (mobman map --store) whose cells give the candidate bases for a point "
         "target x,y,z (inverse reachability), scored by its measure.",
     ),
-    keep_out: list[str] | None = typer.Option(
-        None,
-        "--keep-out",
-        help="A floor rectangle x_min,x_max,y_min,y_max (m) the platform may not overlap, e.g. a table "
-        "(repeatable).",
-    ),
-    footprint: str | None = typer.Option(
-        None,
-        "--footprint",
-        help="The disc covering the platform: radius or radius,x,y in the platform frame (m); default: the "
-        "disc covering its drawn shapes.",
-    ),
+    keep_out: list[str] | None = FloorOption.keep_out,
+    footprint: str | None = FloorOption.footprint,
     top: int = typer.Option(5, "--top", help="Bases listed, best first (≥ 1)."),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     tip: list[str] | None = UrdfOption.tip,
@@ -136,12 +122,8 @@ def place_command(
         "level": level,
     }
     given: dict[str, Any] = {name: value for name, value in grid.items() if value is not None}
-    solver: dict[str, Any] = {
-        "headings": headings,
-        "tolerance": tolerance,
-        "keep_out": [parse_vector(region, "--keep-out", 4) for region in keep_out or ()],
-        "footprint": None if footprint is None else parse_vector(footprint, "--footprint"),
-    }
+    solver: dict[str, Any] = {"headings": headings, "tolerance": tolerance}
+    solver["keep_out"], solver["footprint"] = floor_arguments(robot, keep_out, footprint)
     if iterations is not None:
         solver["iterations"] = iterations
     try:

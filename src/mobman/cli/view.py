@@ -9,7 +9,9 @@ import typer
 
 from mobman.cli.app import app
 from mobman.cli.common import (
+    FloorOption,
     UrdfOption,
+    floor_arguments,
     load_dynamics,
     load_map,
     load_robot,
@@ -51,6 +53,8 @@ def view_command(
     reachability: Path | None = typer.Option(
         None, "--map", help="A reachability map's store (mobman map --store) to draw around the platform."
     ),
+    keep_out: list[str] | None = FloorOption.keep_out,
+    footprint: str | None = FloorOption.footprint,
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     tip: list[str] | None = UrdfOption.tip,
     base: str | None = UrdfOption.base,
@@ -91,8 +95,12 @@ def view_command(
     drawn = None
     if reachability is not None:
         drawn = load_map(reachability, robot)
+    regions, disc = floor_arguments(robot, keep_out, footprint)
     viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
     try:
+        if disc is not None:
+            boxes = [[r.x_min, r.x_max, r.y_min, r.y_max] for r in regions]
+            viewer.show_floor(boxes, (disc.radius, disc.x, disc.y))
         if drawn is not None:
             viewer.show_map(drawn.centres()[drawn.reached], drawn.score[drawn.reached], drawn.step)
         if results is not None:

@@ -94,7 +94,7 @@ class FootprintDisc:
             raise InputError(f"footprint radius must be > 0 (m), got {self.radius:g}")
 
     @classmethod
-    def of(cls, value: "FootprintDisc | float | Sequence[float]") -> "FootprintDisc":
+    def of(cls, value: "FootprintDisc | float | Sequence[float] | npt.ArrayLike") -> "FootprintDisc":
         """A disc given as a :class:`FootprintDisc`, a radius about the platform's origin, or (radius, x, y)."""
         if isinstance(value, FootprintDisc):
             return value

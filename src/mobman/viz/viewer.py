@@ -14,6 +14,8 @@ Yun 1999, eq. 27–38). A robot with several arms also gets the measures of each
 
 A reachability map (:mod:`mobman.studies.maps`, :meth:`Viewer.show_map`) is drawn as a cloud of its reached
 cells' centres, coloured by their score, attached to the platform (the map's frame), so it moves with it.
+Keep-out regions of the floor and the disc covering the platform (:mod:`mobman.studies.floor`,
+:meth:`Viewer.show_floor`) are drawn as patches on the floor, the disc moving with the platform.
 
 Links are drawn from the robot's :class:`~mobman.model.visual.Visual` shapes (URDF meshes, boxes, cylinders,
 spheres); a robot without them gets cylinders between successive joint origins, and a platform body and wheels
@@ -56,6 +58,10 @@ ELLIPSOID_COLOR = (60, 130, 230)
 DYNAMIC_COLOR = (220, 60, 60)
 EE_PATH_COLOR = (20, 160, 60)
 PLATFORM_PATH_COLOR = (150, 60, 200)
+KEEP_OUT_COLOR = (200, 40, 40)
+FOOTPRINT_COLOR = (250, 190, 20)
+FLOOR_PATCH = 0.01
+"""Thickness (m) of the patches drawn on the floor: keep-out regions and the platform's footprint disc."""
 MEASURES = {"yoshikawa": "w", "inverse_condition": "w2", "eccentricity": "w5"}
 """The measures of the panel, by their symbols in Nait-Chabane et al. (2006), eq. 17–19."""
 Dynamics = tuple[DynamicModel, np.ndarray]
@@ -461,6 +467,34 @@ class Viewer:
             )
         )
         return colors
+
+    def show_floor(self, keep_out: npt.ArrayLike, footprint: npt.ArrayLike) -> None:
+        """Draw keep-out regions of the floor, ``keep_out`` (M, 4: x_min, x_max, y_min, y_max, world frame), as
+        red patches (nodes ``/keep_out/0``, …) and the disc covering the platform, ``footprint`` (radius, x,
+        y in the platform frame), as a yellow patch under it that moves with it (``/robot/platform/footprint``):
+        what base placement keeps apart (:mod:`mobman.studies.floor`)."""
+        regions = np.asarray(keep_out, dtype=float).reshape(-1, 4) if np.size(keep_out) else np.zeros((0, 4))
+        disc = np.asarray(footprint, dtype=float)
+        if disc.shape != (3,) or not disc[0] > 0 or np.any(regions[:, [0, 2]] >= regions[:, [1, 3]]):
+            raise InputError(
+                "show_floor: keep_out must be rows x_min < x_max, y_min < y_max and footprint radius > 0, x, y; "
+                f"got {regions.tolist()} and {disc.tolist()}"
+            )
+        ground = self.nodes["/ground"].position[2]
+        translucent = (*_rgba(KEEP_OUT_COLOR)[:3], 0.5)
+        for k, (x0, x1, y0, y1) in enumerate(regions):
+            centre = ((x0 + x1) / 2, (y0 + y1) / 2, ground + FLOOR_PATCH / 2)
+            patch = Visual("box", _pose(np.eye(3), centre), (x1 - x0, y1 - y0, FLOOR_PATCH), rgba=translucent)
+            self._add_visual(f"/keep_out/{k}", patch)
+        # the platform frame's height above the floor: the disc lies on the floor however the platform moves
+        below = ground - self.nodes["/robot/platform"].position[2] + 1.5 * FLOOR_PATCH
+        disc_shape = Visual(
+            "cylinder",
+            _pose(np.eye(3), (disc[1], disc[2], below)),
+            (disc[0], FLOOR_PATCH),
+            rgba=(*_rgba(FOOTPRINT_COLOR)[:3], 0.6),
+        )
+        self._add_visual("/robot/platform/footprint", disc_shape)
 
     def set_time(self, t: float) -> None:
         """Show the loaded motion at the sample nearest to time ``t`` (as the time slider does)."""
