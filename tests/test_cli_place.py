@@ -61,6 +61,28 @@ def test_no_base_reaching_the_target_exits_3_with_the_candidates_reported(capsys
     )
 
 
+def test_targets_repeated_are_reached_from_one_base(capsys):
+    targets = np.array([[1.0, 0.5, 0.8], [1.1, 0.2, 0.9]])
+    args = ["place", "tiago", *(a for t in targets for a in ("--target", ",".join(map(str, t)))), *GRID]
+    code, out, err = _run([*args, "--top", "3", "--json"], capsys)
+    assert code == 0, err
+    report = json.loads(out)
+    np.testing.assert_array_equal(report["target"], targets)
+    q = np.array([e["q"] for e in report["ranking"]])  # (ranked, 2 targets, n_q)
+    assert q.shape[1] == 2 and report["reached"] >= len(q) > 0
+    np.testing.assert_array_equal(q[:, 0, :3], q[:, 1, :3])  # one base for both
+    for k in range(2):
+        tool = np.asarray(K.forward(robots.build("tiago"), q[:, k]))
+        assert np.abs(tool - targets[k]).max() <= 1e-6
+    assert [e["score"] for e in report["ranking"]] == sorted(
+        (e["score"] for e in report["ranking"]), reverse=True
+    )
+    code, _, err = _run(
+        ["place", "bayle-planar", "--target", "0,0,0", "--target", "1,0,0", "--map", "m.zarr"], capsys
+    )
+    assert code == 2 and "--map: one --target" in err and err.count("\n") == 1
+
+
 def test_keep_out_regions_leave_out_the_bases_whose_platform_would_overlap_them(capsys):
     table = [0.7, 1.6, 0.0, 1.2]
     args = ["place", "tiago", "--target", "1,0.5,0.8", *GRID, "--top", "20", "--json"]
@@ -130,11 +152,11 @@ def test_a_map_s_cells_are_the_candidates(tmp_path, capsys):
     assert report["task"] == ["x_ee", "y_ee", "z_ee"] and report["reached"] == report["candidates"] > 0
     assert report["best"]["score"] == pytest.approx(0.25, abs=0.02)  # l1 l2 at the elbow's right angle
     for args, message in [
-        (["--radii", "1"], "--map: --radii do not apply with a map"),
+        (["--target", "0.3,-0.4,0", "--radii", "1"], "--map: --radii do not apply with a map"),
         (["--target", "0.3,-0.4"], "--target: expected 3 values, got 2"),
-        (["--param", "l1=0.6"], "--map: the map was computed for another robot"),
+        (["--target", "0.3,-0.4,0", "--param", "l1=0.6"], "--map: the map was computed for another robot"),
     ]:
-        base = ["place", "bayle-planar", "--target", "0.3,-0.4,0", "--map", str(store)]
+        base = ["place", "bayle-planar", "--map", str(store)]
         code, out, err = _run([*base, *args], capsys)
         assert code == 2 and message in err and err.count("\n") == 1, err
     code, _, err = _run(["place", "bayle-planar", "--target", "0.3,-0.4,2", "--map", str(store)], capsys)

@@ -54,6 +54,31 @@ def test_a_planar_2r_arm_reaches_within_l1_plus_l2_with_the_closed_form_manipula
     assert np.abs(np.asarray(K.forward(robot, result.q[result.reached])) - target).max() <= 1e-9
 
 
+def test_several_targets_are_reached_from_one_base_each_with_its_own_posture():
+    """Two targets of the planar 2R arm: a base reaches both when both lie within l1 + l2 of its shoulder, and
+    is scored by the lower of the closed-form w = l1 l2 |sin q5| of its two postures."""
+    robot = _planar()
+    targets = np.array([[0.3, -0.4], [0.6, 0.1]])
+    result = place(robot, targets, radii=[0.2, 0.4, 0.6, 0.8, 1.0], bearings=8, headings=4, starts=4)
+    assert result.target.shape == (2, 2) and result.q.shape == (len(result.bases), 2, robot.n_q)
+    # the grid is centred on the middle of the targets' bounding box
+    np.testing.assert_allclose(result.bases[0, :2], [0.45 + 0.2, -0.15], atol=1e-12)
+    distance = np.linalg.norm(result.bases[:, None, :2] - targets, axis=2)  # (N, 2)
+    inside = distance < L1 + L2 - 1e-9
+    clear = np.all(np.abs(distance - (L1 + L2)) > 1e-6, axis=1)  # not at the edge of the reach
+    np.testing.assert_array_equal(result.reached[clear], np.all(inside, axis=1)[clear])
+    assert 0 < result.reached.sum() < np.any(inside, axis=1).sum()
+    cos_q5 = (distance**2 - L1**2 - L2**2) / (2 * L1 * L2)
+    w = L1 * L2 * np.sqrt(np.clip(1.0 - cos_q5**2, 0.0, None))
+    np.testing.assert_allclose(result.score[result.reached], w.min(axis=1)[result.reached], atol=1e-9)
+    for k in range(2):  # each posture puts the tool on its own target
+        tool = np.asarray(K.forward(robot, result.q[result.reached, k]))
+        assert np.abs(tool - targets[k]).max() <= 1e-9
+    np.testing.assert_array_equal(result.q[result.reached, 0, :3], result.q[result.reached, 1, :3])
+    ranked = result.ranking(3)
+    assert ranked[0] == result.best and len(ranked) == 3
+
+
 def test_the_ranking_lists_each_relative_placement_once():
     result = place(_planar(), [0.0, 0.0], radii=[0.3, 0.6, 0.9], bearings=6, headings=2, starts=2)
     everything = result.ranking(count=100, distinct=False)
@@ -123,6 +148,12 @@ def test_the_default_radii_run_from_zero_to_the_arm_s_reach():
     [
         ({"target": [1.0, 2.0, 3.0]}, r"target must be 2 numbers \(x_ee, y_ee\), got shape \(3,\)"),
         ({"target": [np.nan, 0.0]}, "target contains NaN"),
+        (
+            {"target": [[0.3, 0.1], [0.2, 0.1, 0.0]]},
+            r"target must be 2 numbers \(x_ee, y_ee\), or rows of them",
+        ),
+        ({"target": [[0.3, 0.1], [0.2, np.inf]]}, "target contains NaN or infinite values"),
+        ({"target": np.zeros((0, 2))}, r"target: no target given; give 2 numbers \(x_ee, y_ee\)"),
         ({"radii": [0.5, -0.1]}, "radii must be one or more finite distances ≥ 0"),
         ({"radii": []}, "radii must be one or more"),
         ({"bearings": 0}, "bearings must be an integer ≥ 1, got 0"),

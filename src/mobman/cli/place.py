@@ -1,6 +1,7 @@
 """``mobman place``: where to park the platform for a target of the task (:mod:`mobman.studies.placement`).
 
-Tries every platform pose of a polar grid around the target (``--radii`` × ``--bearings`` × ``--headings``),
+Tries every platform pose of a polar grid around the target (``--radii`` × ``--bearings`` × ``--headings``;
+``--target`` repeated: targets reached from the same base, each with a posture of its own),
 solves the arm's inverse kinematics from ``--starts`` postures within the joint limits for each, and ranks the
 bases that reach the target by a manipulability measure of the posture (``--measure``, ``--level``).
 ``--keep-out`` regions of the floor (repeatable) leave out the bases from which the platform, covered by the
@@ -64,7 +65,11 @@ def place_command(
     robot_name: str = typer.Argument(
         ..., metavar="ROBOT", help="A built-in robot (see `mobman robots`), a .toml or a .urdf file."
     ),
-    target: str = typer.Option(..., "--target", help="The task's target ξ*, e.g. 1,0.5,0.8 for x, y, z."),
+    target: list[str] = typer.Option(
+        ...,
+        "--target",
+        help="The task's target ξ*, e.g. 1,0.5,0.8 for x, y, z; repeated, targets reached from the same base.",
+    ),
     centre: str | None = typer.Option(
         None, "--centre", help="x,y the grid is centred on (default: the target's x, y)."
     ),
@@ -129,16 +134,19 @@ def place_command(
     try:
         if reachability is None:
             task = robot.task
-            result = place(robot, parse_vector(target, "--target", task.dim), **given, **solver)
+            targets = [parse_vector(value, "--target", task.dim) for value in target]
+            result = place(robot, targets[0] if len(targets) == 1 else np.stack(targets), **given, **solver)
         else:
             if given:
                 raise InputError(
                     f"--map: {', '.join('--' + name for name in given)} do not apply with a map (its cells are "
                     "the candidates, its measure and level score them)"
                 )
+            if len(target) > 1:
+                raise InputError("--map: one --target (a map's cells are placed for a point target)")
             reached = load_map(reachability, robot)
             task = Position("xyz", arm=reached.arm)
-            result = place_with_map(robot, reached, parse_vector(target, "--target", 3), **solver)
+            result = place_with_map(robot, reached, parse_vector(target[0], "--target", 3), **solver)
     except InputError as exc:
         raise InputError(_as_option(str(exc))) from None
     ranking = [_entry(result, int(k)) for k in result.ranking(top)]
@@ -196,6 +204,7 @@ def _print(report: dict, robot_name: str, n_platform: int) -> None:
             f"{theta:.3f}",
             f"{entry['score']:.4g}",
             f"{entry['error']:.1e}",
-            np.array2string(np.asarray(entry["q"])[n_platform:], precision=3),
+            # one posture per target, a line each
+            "\n".join(np.array2string(q[n_platform:], precision=3) for q in np.atleast_2d(entry["q"])),
         )
     Console().print(table)

@@ -52,10 +52,12 @@ arm fully out, are rare among random ones (Stretch: 0.84 m over 4,096 postures, 
 class Placement:
     """Candidate platform poses and what the arm reaches from each.
 
-    ``bases`` (N, 3): the platform poses (x, y, θ); ``q`` (N, n_q): the posture kept for each (the
+    ``target``: the task's target (m,), or its targets (K, m) (:func:`place`); ``bases`` (N, 3): the
+    platform poses (x, y, θ); ``q`` (N, n_q): the posture kept for each, (N, K, n_q) for K targets (the
     platform's further coordinates, such as a steering angle, at 0; NaN where J was undefined from every
-    start); ``error`` (N,): the norm of the task's error there (inf for those); ``reached`` (N,): error ≤
-    tolerance and not blocked; ``score`` (N,): the measure at the posture where reached, 0 where not;
+    start); ``error`` (N,): the norm of the task's error there (inf for those; the largest over several
+    targets); ``reached`` (N,): error ≤ tolerance and not blocked; ``score`` (N,): the measure at the
+    posture where reached (the lowest over several targets), 0 where not;
     ``blocked`` (N,): the platform there would overlap a keep-out region (all False without any), and
     ``footprint`` the disc that covered it (None without keep-out regions). ``best``: the index of
     the reached base with the highest score, None when no base reaches the target. ``n_platform``: the
@@ -93,8 +95,12 @@ class Placement:
         order = reached[np.argsort(-self.score[reached], kind="stable")]
         if not distinct:
             return order[:count]
-        arm = self.q[:, self.n_platform :]
-        turns = np.array(self.revolute, dtype=bool) if self.revolute else np.zeros(arm.shape[1], dtype=bool)
+        arm = self.q[..., self.n_platform :]  # with several targets, the postures of them all
+        turns = np.array(self.revolute, dtype=bool) if self.revolute else np.zeros(arm.shape[-1], dtype=bool)
+        arm, turns = (
+            arm.reshape(len(arm), math.prod(arm.shape[1:])),
+            np.tile(turns, math.prod(arm.shape[1:-1])),
+        )
 
         def same(a: np.ndarray, b: np.ndarray) -> bool:
             difference = a - b
@@ -166,8 +172,12 @@ def place(
     """Try every platform pose of :func:`candidate_bases` for the task target ξ* ``target`` (m,) (module
     notes) and score the reached ones.
 
-    ``centre``: the (x, y) the grid is centred on, by default the target's own x and y (the task's first two
-    coordinates when they are x and y, as in ``Position("xyz")`` and ``Pose``); ``radii``: the distances from
+    ``target`` (K, m): several targets reached from the same base, each with a posture of its own (to pick
+    at one and place at another without moving the platform): a base reaches them when it reaches every one,
+    and is scored by the lowest of their postures' scores (the weakest posture decides); ``q`` is then
+    (N, K, n_q), a posture per target. ``centre``: the (x, y) the grid is centred on, by default the
+    target's own x and y (the task's first two coordinates when they are x and y, as in ``Position("xyz")``
+    and ``Pose``; the middle of the targets' bounding box for several); ``radii``: the distances from
     it, by default 8 from 0 to :func:`reach_radius`; ``starts``: starting postures per base (the arm's
     coordinates at 0 clipped to the limits, then seeded random ones over the limits,
     :func:`mobman.redundancy.sample_configurations`); ``measure``: one of
@@ -177,8 +187,8 @@ def place(
     by default :func:`mobman.studies.floor.footprint_disc` of the robot).
     """
     task = K.resolve_task(robot, task)
-    target = _vector(target, "target", task.dim, ", ".join(task.names))
-    centre = _centre(task, target) if centre is None else _vector(centre, "centre", 2, "x, y")
+    targets = _targets(target, task)
+    centre = _centre(task, targets) if centre is None else _vector(centre, "centre", 2, "x, y")
     radii = np.linspace(0.0, reach_radius(robot), 8) if radii is None else _distances(radii)
     for name, value in (("bearings", bearings), ("headings", headings), ("starts", starts)):
         options.count(value, name)
@@ -187,11 +197,19 @@ def place(
     options.scoring(measure, level)
     floor = _floor(robot, keep_out, footprint)
     bases = candidate_bases(centre, radii, bearings, headings)
+    # every base with every target at once: (N, K) pairs, each its best posture (N, K, n_q)
     q, error, score = best(
-        robot, *reach(robot, bases, target, starting_postures(robot, starts, seed), task, iterations),
+        robot, *reach(robot, bases[:, None], targets, starting_postures(robot, starts, seed), task, iterations),
         tolerance, task, measure, level,
     )  # fmt: skip
-    return _placement(robot, target, bases, q, error, score, measure, level, tolerance, *floor)
+    every = np.all(error <= tolerance, axis=1)
+    error, score = (
+        error.max(axis=1),
+        np.where(every, np.min(np.where(every[:, None], score, 0.0), axis=1), 0.0),
+    )
+    if np.ndim(target) == 1:  # one target: its posture per base
+        targets, q = targets[0], q[:, 0]
+    return _placement(robot, targets, bases, q, error, score, measure, level, tolerance, *floor)
 
 
 def place_with_map(
@@ -333,11 +351,25 @@ def _distances(radii: npt.ArrayLike) -> np.ndarray:
     return arr
 
 
-def _centre(task: Task, target: np.ndarray) -> np.ndarray:
-    """The target's x and y: the task's first two coordinates when they are the x and y of a point."""
+def _targets(target: npt.ArrayLike, task: Task) -> np.ndarray:
+    """One target (m,) or several (K, m) of ``task``, checked, as (K, m)."""
+    names = ", ".join(task.names)
+    try:
+        several = np.ndim(target) == 2
+    except ValueError:  # rows of different lengths
+        raise InputError(f"target must be {task.dim} numbers ({names}), or rows of them") from None
+    if several and len(target) == 0:  # type: ignore[arg-type]
+        raise InputError(f"target: no target given; give {task.dim} numbers ({names})")
+    rows = target if several else [target]
+    return np.stack([_vector(row, "target", task.dim, names) for row in rows])  # type: ignore[union-attr]
+
+
+def _centre(task: Task, targets: np.ndarray) -> np.ndarray:
+    """The targets' x and y (the middle of their bounding box): the task's first two coordinates when they are
+    the x and y of a point."""
     first = task.names[:2]
     if len(first) == 2 and first[0].startswith("x") and first[1].startswith("y"):
-        return target[:2]
+        return (targets[:, :2].min(axis=0) + targets[:, :2].max(axis=0)) / 2
     raise InputError(
         f"centre: the task's coordinates ({', '.join(task.names)}) do not start with x and y; give the (x, y) "
         "the search is centred on"
