@@ -148,8 +148,11 @@ def test_the_errors_name_the_field_and_its_range():
         keep_out_regions([[0, 1, 2]])
     with pytest.raises(InputError, match=r"^footprint radius must be > 0 \(m\), got 0$"):
         FootprintDisc.of(0.0)
-    with pytest.raises(InputError, match=r"^footprint must be a radius, or radius, x, y"):
-        FootprintDisc.of([0.3, 0.1])
+    for bad in ([0.3, 0.1], "wide"):
+        with pytest.raises(InputError, match=r"^footprint must be a radius, or radius, x, y"):
+            FootprintDisc.of(bad)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match=r"^footprint must be finite numbers"):
+        FootprintDisc.of(np.nan)
 
 
 def test_regions_are_given_one_or_many():

@@ -98,7 +98,10 @@ class FootprintDisc:
         """A disc given as a :class:`FootprintDisc`, a radius about the platform's origin, or (radius, x, y)."""
         if isinstance(value, FootprintDisc):
             return value
-        numbers = np.atleast_1d(np.asarray(value, dtype=float))
+        try:
+            numbers = np.atleast_1d(np.asarray(value, dtype=float))
+        except (TypeError, ValueError):
+            numbers = np.zeros(0)
         if numbers.shape not in ((1,), (3,)):
             raise InputError(f"footprint must be a radius, or radius, x, y (m), got {value!r}")
         return cls(*(float(v) for v in numbers))

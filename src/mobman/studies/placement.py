@@ -96,11 +96,11 @@ class Placement:
         if not distinct:
             return order[:count]
         arm = self.q[..., self.n_platform :]  # with several targets, the postures of them all
-        turns = np.array(self.revolute, dtype=bool) if self.revolute else np.zeros(arm.shape[-1], dtype=bool)
-        arm, turns = (
-            arm.reshape(len(arm), math.prod(arm.shape[1:])),
-            np.tile(turns, math.prod(arm.shape[1:-1])),
+        revolute = (
+            np.array(self.revolute, dtype=bool) if self.revolute else np.zeros(arm.shape[-1], dtype=bool)
         )
+        turns = np.tile(revolute, math.prod(arm.shape[1:-1]))
+        arm = arm.reshape(len(arm), turns.size)
 
         def same(a: np.ndarray, b: np.ndarray) -> bool:
             difference = a - b
@@ -202,11 +202,8 @@ def place(
         robot, *reach(robot, bases[:, None], targets, starting_postures(robot, starts, seed), task, iterations),
         tolerance, task, measure, level,
     )  # fmt: skip
-    every = np.all(error <= tolerance, axis=1)
-    error, score = (
-        error.max(axis=1),
-        np.where(every, np.min(np.where(every[:, None], score, 0.0), axis=1), 0.0),
-    )
+    every = np.all(error <= tolerance, axis=1)  # a score where every target is reached (NaN elsewhere)
+    error, score = error.max(axis=1), np.where(every, score.min(axis=1), 0.0)
     if np.ndim(target) == 1:  # one target: its posture per base
         targets, q = targets[0], q[:, 0]
     return _placement(robot, targets, bases, q, error, score, measure, level, tolerance, *floor)
