@@ -32,6 +32,7 @@ from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
 from mobman.model.visual import Visual
+from mobman.studies import options
 
 ROUND_POINTS = 64
 """Points per circle of a cylinder's or a sphere's outline; the circle through them is widened by
@@ -65,16 +66,7 @@ class KeepOut:
         """A region given as a :class:`KeepOut` or as its 4 numbers (x_min, x_max, y_min, y_max)."""
         if isinstance(value, KeepOut):
             return value
-        try:
-            numbers = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(
-                f"keep_out must be 4 numbers x_min, x_max, y_min, y_max (m), got {value!r}"
-            ) from None
-        if numbers.shape != (4,):
-            raise InputError(
-                f"keep_out must be 4 numbers x_min, x_max, y_min, y_max (m), got shape {numbers.shape}"
-            )
+        numbers = options.vector(value, "keep_out", 4, "x_min, x_max, y_min, y_max in m")
         return cls(*(float(v) for v in numbers))
 
 

@@ -1,7 +1,7 @@
 """The options the studies share, checked once: counts (starts, iterations, samples), distances (a step, a
-tolerance) and the scoring of a posture (a manipulability measure and the Jacobian it is taken of). Each
-check raises :class:`~mobman.errors.InputError` with one line naming the option and its allowed range; the
-command line names the option as its flag."""
+tolerance), vectors (a target, a centre, a keep-out region) and the scoring of a posture (a manipulability
+measure and the Jacobian it is taken of). Each check raises :class:`~mobman.errors.InputError` with one line
+naming the option and its allowed range; the command line names the option as its flag."""
 
 from __future__ import annotations
 
@@ -36,6 +36,19 @@ def distance(value: Any, name: str) -> float:
     return float(value)
 
 
+def vector(value: Any, name: str, size: int, names: str) -> np.ndarray:
+    """``value`` as ``size`` finite numbers, ``names`` naming them in the message."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be {size} numbers ({names}), got {value!r}") from None
+    if arr.shape != (size,):
+        raise InputError(f"{name} must be {size} numbers ({names}), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} contains NaN or infinite values")
+    return arr
+
+
 def scoring(measure: Any, level: Any) -> None:
     """``measure`` one of :data:`mobman.manipulability.MEASURES`, ``level`` one of :data:`LEVELS`."""
     if measure not in MEASURES:
@@ -44,4 +57,4 @@ def scoring(measure: Any, level: Any) -> None:
         raise InputError(f"level must be one of {', '.join(LEVELS)}, got {level!r}")
 
 
-__all__ = ["LEVELS", "count", "distance", "scoring"]
+__all__ = ["LEVELS", "count", "distance", "scoring", "vector"]

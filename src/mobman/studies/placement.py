@@ -188,7 +188,7 @@ def place(
     """
     task = K.resolve_task(robot, task)
     targets = _targets(target, task)
-    centre = _centre(task, targets) if centre is None else _vector(centre, "centre", 2, "x, y")
+    centre = _centre(task, targets) if centre is None else options.vector(centre, "centre", 2, "x, y")
     radii = np.linspace(0.0, reach_radius(robot), 8) if radii is None else _distances(radii)
     for name, value in (("bearings", bearings), ("headings", headings), ("starts", starts)):
         options.count(value, name)
@@ -234,7 +234,7 @@ def place_with_map(
     """
     if reachability.digest != robot_digest(robot):
         raise InputError(f"reachability: the map was computed for another robot than {robot.name!r}")
-    target = _vector(target, "target", 3, "x, y, z")
+    target = options.vector(target, "target", 3, "x, y, z")
     headings, iterations = options.count(headings, "headings"), options.count(iterations, "iterations")
     _check_tolerance(tolerance)
     floor = _floor(robot, keep_out, footprint)
@@ -325,18 +325,6 @@ def _nothing(robot: MobileManipulator) -> tuple[np.ndarray, np.ndarray]:
     return np.zeros((0, 1, robot.n_q)), np.zeros((0, 1))
 
 
-def _vector(value: npt.ArrayLike, name: str, size: int, names: str) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be {size} numbers ({names}), got {value!r}") from None
-    if arr.shape != (size,):
-        raise InputError(f"{name} must be {size} numbers ({names}), got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise InputError(f"{name} contains NaN or infinite values")
-    return arr
-
-
 def _distances(radii: npt.ArrayLike) -> np.ndarray:
     try:
         arr = np.asarray(radii, dtype=float)
@@ -358,7 +346,7 @@ def _targets(target: npt.ArrayLike, task: Task) -> np.ndarray:
     if several and len(target) == 0:  # type: ignore[arg-type]
         raise InputError(f"target: no target given; give {task.dim} numbers ({names})")
     rows = target if several else [target]
-    return np.stack([_vector(row, "target", task.dim, names) for row in rows])  # type: ignore[union-attr]
+    return np.stack([options.vector(row, "target", task.dim, names) for row in rows])  # type: ignore[union-attr]
 
 
 def _centre(task: Task, targets: np.ndarray) -> np.ndarray:

@@ -486,11 +486,10 @@ class Viewer:
             centre = ((x0 + x1) / 2, (y0 + y1) / 2, ground + FLOOR_PATCH / 2)
             patch = Visual("box", _pose(np.eye(3), centre), (x1 - x0, y1 - y0, FLOOR_PATCH), rgba=translucent)
             self._add_visual(f"/keep_out/{k}", patch)
-        # the platform frame's height above the floor: the disc lies on the floor however the platform moves
-        below = ground - self.nodes["/robot/platform"].position[2] + 1.5 * FLOOR_PATCH
+        # in the platform frame, which moves in the plane z = 0: on the floor wherever the platform goes
         disc_shape = Visual(
             "cylinder",
-            _pose(np.eye(3), (disc[1], disc[2], below)),
+            _pose(np.eye(3), (disc[1], disc[2], ground + 1.5 * FLOOR_PATCH)),
             (disc[0], FLOOR_PATCH),
             rgba=(*_rgba(FOOTPRINT_COLOR)[:3], 0.6),
         )
