@@ -235,7 +235,7 @@ def test_one_configuration_dynamics_keep_every_array_of_their_branch_small():
 
 def test_only_an_unbatched_untraced_cpu_call_runs_the_sequential_program():
     """One configuration compiles the public function's sequential program; a batch, and a call traced in the
-    user's own jit, take the batched program (the sequential one is not compiled for them)."""
+    user's own jit, take the batched program (the sequential one is not compiled for them; .plain: its jax.jit)."""
 
     @batching.batched({0: 1})
     def scaled_outer(x):
@@ -244,9 +244,9 @@ def test_only_an_unbatched_untraced_cpu_call_runs_the_sequential_program():
     x = np.random.default_rng(4).normal(size=(3, 12))
     jax.jit(lambda v: scaled_outer(v))(x[0])
     scaled_outer(x)
-    assert scaled_outer.sequential._cache_size() == 0
+    assert scaled_outer.sequential.plain._cache_size() == 0
     one = scaled_outer(x[0])
-    assert scaled_outer.sequential._cache_size() == 1
+    assert scaled_outer.sequential.plain._cache_size() == 1
     np.testing.assert_array_equal(np.asarray(one), 2.0 * np.outer(x[0], x[0]))
 
 

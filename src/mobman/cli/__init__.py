@@ -26,7 +26,7 @@ from mobman.cli import (  # noqa: F401
     view,
 )
 from mobman.cli.app import INTERRUPTED, app
-from mobman.engine import compilation_cache
+from mobman.engine import compilation_cache, exported
 from mobman.errors import MobmanError
 
 
@@ -41,12 +41,20 @@ def _command(argv: list[str] | None) -> str:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Entry point of the console script; the exit status is that of :data:`EXIT_CODES`."""
+    """Entry point of the console script; the exit status is that of :data:`EXIT_CODES`. The command keeps its
+    compiled and exported programs between runs (:mod:`mobman.engine.exported`), for its own calls only."""
     command = _command(argv)
     try:
-        compilation_cache.enable()
+        exported.enable(compilation_cache.enable())
     except MobmanError as exc:  # the command still runs, compiling every program
         typer.echo(f"warning: {_one_line(str(exc))}", err=True)
+    try:
+        _run(argv, command)
+    finally:
+        exported.disable()
+
+
+def _run(argv: list[str] | None, command: str) -> None:
     try:
         code = app(args=argv, standalone_mode=False)
     except MobmanError as exc:

@@ -8,6 +8,8 @@
   between many consumers (XLA's fusion would recompute it in each).
 - :mod:`mobman.engine.compilation_cache`: JAX's persistent compilation cache in the user's cache folder (the
   ``mobman`` command turns it on), so that a later process reads its compiled programs back.
+- :mod:`mobman.engine.exported`: ``jax.jit`` that also keeps each traced program on disk (the ``mobman`` command
+  turns it on), so that a later process calls it without tracing the Python function again.
 - The drop-ins: :mod:`~mobman.engine.products` (written-out small products, constants as scalars, Rodrigues'
   formula), :mod:`~mobman.engine.linalg` (the batched Jacobi eigensolver), :mod:`~mobman.engine.extremes`
   (a batch's extreme eigenvalues and determinants, for the manipulability measures),

@@ -45,6 +45,8 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from mobman.engine import exported
+
 BLOCK = 128
 """Configurations per block on the CPU (64–128 are best for a Panda's J̄ and 6 × 6 eigenvalues)."""
 
@@ -92,8 +94,11 @@ def batched(
 
             return blocked(one, tuple(core_dims[i] for i in arrays))(*(args[i] for i in arrays))
 
-        compiled = across_cores(core_dims, min_share)(jax.jit(program, static_argnums=static))
-        single = jax.jit(sequential(fn, arrays), static_argnums=static)
+        name = f"{fn.__module__}.{fn.__qualname__}"
+        compiled = across_cores(core_dims, min_share)(
+            exported.jit(program, static_argnums=static, name=f"{name} (batched)")
+        )
+        single = exported.jit(sequential(fn, arrays), static_argnums=static, name=f"{name} (sequential)")
 
         def call(args: tuple) -> Any:
             one = all(
@@ -256,7 +261,8 @@ def _shared_call(
         return sub
 
     abstract = with_shares(lambda x: jax.ShapeDtypeStruct((share,) + x.shape[1:], x.dtype))
-    shapes = jax.eval_shape(compiled, *abstract, **kwargs)
+    # the plain jitted function (an exported.jit keeps it as .plain) takes its static arguments as static
+    shapes = jax.eval_shape(getattr(compiled, "plain", compiled), *abstract, **kwargs)
     rows = math.prod(batch)
     outs = jax.tree.map(lambda s: _aligned_empty((rows,) + s.shape[1:], s.dtype), shapes)
 
