@@ -322,3 +322,24 @@ def test_reproduce_replaces_a_paper_folder_only_when_complete(tmp_path, capsys, 
     monkeypatch.setattr("mobman.cli.reproduce.module", paper("new", interrupt=False))
     assert run(["reproduce", "tchon2002", "--out", str(out)], capsys)[0] == 0
     assert snapshot(out)["tchon2002/figure.png"] == b"new"
+
+
+EXTRA_OF = {
+    "--store": "studies",  # a Zarr store
+    "--scheduler": "studies",  # a Dask cluster
+    "mobman view": "viewer",
+    "tiago": "robots",
+    "stretch": "robots",
+    "export-mjcf": "physics",
+}
+"""What a README command line needs, by a word it holds, and the extra that installs it."""
+
+
+def test_the_readme_first_command_installs_every_extra_its_command_lines_need():
+    readme = (ROOT / "README.md").read_text()
+    first = readme.split("```bash\n", 1)[1].splitlines()[0]
+    installed = set(first.split('pip install -e ".[', 1)[1].split("]", 1)[0].split(","))
+    commands = readme.split("## Command line\n\n```bash\n", 1)[1].split("```", 1)[0].splitlines()
+    needed = {extra for line in commands for word, extra in EXTRA_OF.items() if word in line.split("#")[0]}
+    assert {"studies", "viewer", "robots"} <= needed  # the lines this test is about are still there
+    assert needed <= installed, f"the first command lacks {sorted(needed - installed)}"
