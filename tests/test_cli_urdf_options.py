@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from urdf_samples import husky, husky_tool
 
 from mobman import kinematics
 from mobman.cli import common
@@ -43,26 +44,39 @@ def _analysis(args: list[str], cli_run) -> dict:
 
 def test_urdf_options_keep_read_urdf_s_defaults_for_what_is_not_given():
     assert common.urdf_options() == {}
-    assert common.urdf_options(["left_hand", "right_hand"], "base_link", "fixed", " r , l ", ["j1=pi/2"]) == {
+    given = common.urdf_options(
+        ["left_hand", "right_hand"],
+        "base_link",
+        "fixed",
+        " r , l ",
+        ["j1=pi/2"],
+        ["x_icr=1/20", "base_height=0.1"],
+    )
+    assert given == {
         "tip": ("left_hand", "right_hand"),
         "base": "base_link",
         "platform": "fixed",
         "wheels": ("r", "l"),
         "locked": {"j1": pytest.approx(np.pi / 2, rel=1e-15)},
+        "platform_options": {"x_icr": 0.05, "base_height": 0.1},
     }
 
 
-def test_urdf_options_name_a_malformed_lock():
+def test_urdf_options_name_a_malformed_lock_or_platform_option():
     with pytest.raises(InputError) as info:
         common.urdf_options(lock=["q5"])
     assert str(info.value) == "--lock 'q5': expected NAME=VALUE"
+    with pytest.raises(InputError) as info:
+        common.urdf_options(platform_option=["wheel_radius"])
+    assert str(info.value) == "--platform-option 'wheel_radius': expected NAME=VALUE"
 
 
 @pytest.mark.parametrize("robot", ["bayle-planar", str(ROOT / "docs" / "examples" / "planar_robot.toml")])
 def test_urdf_options_for_another_robot_are_refused_on_one_line(robot, cli_run):
-    code, _, err = cli_run(["analyze", robot, "--platform", "fixed", "--lock", "q5=0", "--q", "0"])
+    options = ["--platform", "fixed", "--lock", "q5=0", "--platform-option", "x_icr=0"]
+    code, _, err = cli_run(["analyze", robot, *options, "--q", "0"])
     assert code == 2 and len(err.strip().splitlines()) == 1
-    assert "--platform, --lock: for a URDF file (a path ending in .urdf), not robot" in err
+    assert "--platform, --lock, --platform-option: for a URDF file (a path ending in .urdf), not robot" in err
 
 
 def test_wheels_named_on_the_command_line_are_the_wheels_found(planar, cli_run):
@@ -288,3 +302,115 @@ def test_urdf_actuators_of_a_robot_without_a_urdf_name_both_sources():
         parse(data)
     assert 'actuators: "urdf" takes the effort limits of a robot read from a URDF' in str(info.value)
     assert "tiago" in str(info.value) and 'file = "….urdf"' in str(info.value)
+
+
+# --- platform options, the ground, meshes ---------------------------------------------------------------
+
+
+def test_a_skid_steer_urdf_is_read_from_the_command_line(tmp_path, cli_run):
+    path = husky(tmp_path)
+    q = np.array([0.3, -0.2, np.pi / 2, 0.25, -np.pi / 2])
+    options = ["--platform-option", "x_icr=0.05", "--platform-option", "track_factor=1.5"]
+    analysis = _analysis(
+        [
+            str(path),
+            "--tip",
+            "tool",
+            "--base",
+            "base_link",
+            "--platform",
+            "skid_steer",
+            *options,
+            "--q",
+            ",".join(map(str, q)),
+        ],
+        cli_run,
+    )
+    # ξ by hand, the platform frame on the ground 0.13228 m below base_link
+    np.testing.assert_allclose(analysis["xi"], husky_tool(q[None], 0.1651 - 0.03282)[0], rtol=0, atol=1e-12)
+    expected = load_urdf(
+        path,
+        tip="tool",
+        base="base_link",
+        platform="skid_steer",
+        platform_options={"x_icr": 0.05, "track_factor": 1.5},
+    )
+    np.testing.assert_allclose(
+        analysis["J_bar"], kinematics.reduced_jacobian(expected, q), rtol=0, atol=1e-15
+    )
+
+
+def test_fixed_wheels_take_the_radius_and_half_track_given_and_say_where_heights_start(tmp_path, cli_run):
+    path = str(husky(tmp_path, "fixed"))
+    q = "0,0,0,0.1,0"
+    base = [path, "--tip", "tool", "--base", "base_link", "--q", q]
+    code, _, err = cli_run(["analyze", *base, "--platform", "differential"])
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "--platform-option wheel_radius=R --platform-option half_track=B" in err
+    given = ["--platform-option", "wheel_radius=0.1651", "--platform-option", "half_track=0.2854"]
+    code, out, err = cli_run(["analyze", *base, *given, "--json"])
+    assert code == 0 and err.strip().splitlines() == [err.strip()]  # one warning line
+    assert err.startswith("warning: no wheel joint of the file gives the ground under 'base_link'")
+    assert "--platform-option base_height=H" in err
+    assert json.loads(out)["results"][0]["xi"] == pytest.approx([0.4, 0.05, 0.3], abs=1e-12)
+    code, out, err = cli_run(["analyze", *base, *given, "--platform-option", "base_height=0.2", "--json"])
+    assert code == 0 and err == ""
+    assert json.loads(out)["results"][0]["xi"] == pytest.approx([0.4, 0.05, 0.5], abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("option", "fragments"),
+    [
+        (
+            "caster=1",
+            [
+                "platform option 'caster': not a parameter of DifferentialDrive",
+                "allowed: wheel_radius, half_track",
+            ],
+        ),
+        ("half_track=0", ["half_track must be a finite number > 0, got 0"]),
+        ("wheel_radius=big", ["--platform-option wheel_radius"]),
+    ],
+)
+def test_bad_platform_options_are_one_line_and_exit_2(planar, option, fragments, cli_run):
+    code, _, err = cli_run(
+        ["analyze", str(planar), "--tip", "tool_link", "--platform-option", option, "--q", "0,0,0,0,0"]
+    )
+    assert code == 2 and len(err.strip().splitlines()) == 1 and err.startswith("error: ")
+    assert all(f in err for f in fragments), err
+
+
+def test_a_robot_table_gives_platform_options(tmp_path):
+    path = husky(tmp_path, "none")
+    data = _robot_table(
+        path,
+        'tip = "tool"\nbase = "base_link"\nplatform_options = { wheel_radius = 0.2, half_track = 0.3, base_height = 0.1 }',
+    )
+    robot = robot_file.robot_table(data, tmp_path)
+    assert (robot.platform.wheel_radius, robot.platform.half_track) == (0.2, 0.3)
+    q = np.array([[0.0, 0.0, 0.0, 0.1, 0.0]])
+    np.testing.assert_allclose(kinematics.forward(robot, q), husky_tool(q, 0.1), rtol=0, atol=1e-12)
+    with pytest.raises(MobmanError) as info:
+        robot_file.robot_table(
+            _robot_table(path, 'tip = "tool"\nplatform_options = { wheel_radius = "r" }'), tmp_path
+        )
+    assert "robot.platform_options.wheel_radius: must be a finite number" in str(info.value)
+
+
+def test_missing_meshes_are_one_line_where_the_robot_is_drawn_and_none_elsewhere(
+    planar, tmp_path, cli_run, capsys
+):
+    text = planar.read_text()
+    mesh = '<visual><geometry><mesh filename="package://nowhere/{0}.stl"/></geometry></visual>'
+    for k, link in enumerate(("q4_link", "q5_link")):
+        assert f'<link name="{link}"/>' in text
+        text = text.replace(f'<link name="{link}"/>', f'<link name="{link}">{mesh.format(k)}</link>')
+    path = tmp_path / "meshes.urdf"
+    path.write_text(text)
+    code, _, err = cli_run(["analyze", str(path), "--tip", "tool_link", "--q", "0,0,0,0,0", "--json"])
+    assert code == 0 and err == ""  # analyze draws nothing
+    common.load_robot(str(path), urdf={"tip": ("tool_link",)}, drawn=True)
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        f"warning: 2 meshes of {robots.build('bayle-planar').name} not found"
+    )

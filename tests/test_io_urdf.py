@@ -4,11 +4,13 @@ command line, and the write → read round trip of every paper robot."""
 from __future__ import annotations
 
 import json
+import logging
 import math
 import warnings
 
 import numpy as np
 import pytest
+from urdf_samples import husky, husky_tool
 
 from mobman import dynamics as dyn
 from mobman import kinematics as K
@@ -16,7 +18,7 @@ from mobman import redundancy as R
 from mobman.cli import main
 from mobman.errors import InputError, ModelError
 from mobman.io.real_robots import REAL_ROBOTS, urdf_model
-from mobman.io.urdf import inspect_urdf, load_urdf, read_urdf, urdf_tips, write_urdf
+from mobman.io.urdf import UrdfWarning, inspect_urdf, load_urdf, read_urdf, urdf_tips, write_urdf
 from mobman.model import robots
 from mobman.model.platforms import DifferentialDrive
 
@@ -189,12 +191,23 @@ def test_bad_files(tmp_path):
         load_urdf(other)
 
 
-def test_missing_mesh_is_a_warning(tmp_path):
-    mesh = '<visual><geometry><mesh filename="package://nowhere/meshes/body.stl"/></geometry></visual>'
-    with pytest.warns(UserWarning, match="mesh 'package://nowhere/meshes/body.stl' not found"):
+def test_missing_meshes_are_listed_and_said_once_where_drawn(tmp_path, caplog):
+    mesh = "".join(
+        f'<visual><geometry><mesh filename="package://nowhere/meshes/{part}.stl"/></geometry></visual>'
+        for part in ("body", "cover", "body")
+    )
+    with warnings.catch_warnings(), caplog.at_level(logging.DEBUG - 1):
+        warnings.simplefilter("error")  # no warning per mesh
         model = read_urdf(_urdf(tmp_path, mesh=mesh), tip="tool")
-    assert model.summary.missing_meshes == ("package://nowhere/meshes/body.stl",)
+    assert not [r for r in caplog.records if r.levelno >= logging.WARNING]  # nor yourdfpy's log line per mesh
+    assert model.summary.missing_meshes == (
+        "package://nowhere/meshes/body.stl",
+        "package://nowhere/meshes/cover.stl",
+    )
     assert model.robot.platform_visuals == ()
+    note = model.summary.mesh_note()
+    assert note.startswith(f"2 meshes of small not found from {tmp_path}") and "\n" not in note
+    assert inspect_urdf(_urdf(tmp_path), tip="tool").mesh_note() is None
 
 
 def test_cli_reads_a_urdf_file_and_reports_errors_in_one_line(tmp_path, capsys):
@@ -329,3 +342,202 @@ def test_missing_extra_gives_the_install_line(monkeypatch, capsys):
     entries = {e["name"]: e for e in json.loads(capsys.readouterr().out)["robots"]}
     assert entries["stretch"]["summary"].endswith("needs pip install 'mobman[robots]'")
     assert entries["stretch"]["coordinates"] == []
+
+
+# --- the ground, wheels that are not joints, virtual base joints, mimic joints ----------------------------
+
+
+def _configurations(n: int, n_q: int, seed: int) -> np.ndarray:
+    q = np.random.default_rng(seed).uniform(-np.pi, np.pi, (n, n_q))
+    q[:4, 2] = [np.pi / 2, -np.pi / 2, np.pi, -np.pi]  # θ at ±π/2 and ±π
+    q[:4, -1] = [np.pi / 2, -np.pi / 2, np.pi, 0.0]
+    return q
+
+
+def test_a_skid_steer_s_platform_frame_is_on_the_ground_its_wheels_define(tmp_path):
+    model = read_urdf(
+        husky(tmp_path),
+        tip="tool",
+        base="base_link",
+        platform="skid_steer",
+        platform_options={"x_icr": 0.05, "track_factor": 1.5},
+    )
+    platform = model.robot.platform
+    assert (platform.wheel_radius, platform.x_icr, platform.track_factor) == (0.1651, 0.05, 1.5)
+    assert platform.wheelbase == pytest.approx(0.512, abs=1e-15)
+    assert platform.half_track == pytest.approx(0.2854, abs=1e-15)
+    height = 0.1651 - 0.03282
+    assert model.summary.base_height == pytest.approx(height, abs=1e-15)
+    assert f"platform frame on the ground, {height:.6g} m below base_link" in str(model.summary)
+    q = _configurations(64, model.robot.n_q, 0)
+    xi = np.asarray(K.forward(model.robot, q))
+    np.testing.assert_allclose(xi, husky_tool(q, height), rtol=0, atol=1e-12)
+    # a given wheel radius is the wheels' too: the ground moves with it
+    bigger = read_urdf(husky(tmp_path), tip="tool", base="base_link", platform="skid_steer", wheel_radius=0.2)
+    assert bigger.summary.base_height == pytest.approx(0.2 - 0.03282, abs=1e-15)
+
+
+@pytest.mark.parametrize("wheels", ["fixed", "none"])
+def test_a_differential_drive_without_wheel_joints_takes_the_values_given(tmp_path, wheels):
+    path = husky(tmp_path, wheels)
+    with pytest.raises(ModelError, match="--platform-option wheel_radius=R --platform-option half_track=B"):
+        load_urdf(path, tip="tool", base="base_link", platform="differential")
+    options = {"wheel_radius": 0.1651, "half_track": 0.2854, "wheel_speed_max": 10.0}
+    with pytest.warns(UrdfWarning, match="no wheel joint of the file gives the ground under 'base_link'"):
+        model = read_urdf(
+            path, tip="tool", base="base_link", platform="differential", platform_options=options
+        )
+    assert model.robot.platform == DifferentialDrive(**options)
+    assert model.summary.base_height is None and len(model.summary.notes) == 1
+    assert "platform frame at the height of base_link" in str(model.summary)
+    q = _configurations(64, model.robot.n_q, 1)
+    np.testing.assert_allclose(np.asarray(K.forward(model.robot, q)), husky_tool(q, 0.0), rtol=0, atol=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the height given: nothing to say
+        placed = read_urdf(
+            path, tip="tool", base="base_link", platform_options={**options, "base_height": 0.4}
+        )
+    assert placed.summary.base_height == 0.4 and placed.summary.notes == ()
+    np.testing.assert_allclose(np.asarray(K.forward(placed.robot, q)), husky_tool(q, 0.4), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (
+            {"x_icr": 0.1},
+            r"platform option 'x_icr': not a parameter of DifferentialDrive .*allowed: wheel_radius",
+        ),
+        ({"wheel_radius": -0.1}, "wheel_radius must be a finite number > 0, got -0.1"),
+        ({"base_height": math.nan}, "platform option base_height: must be a finite number"),
+    ],
+)
+def test_bad_platform_options_name_the_key(tmp_path, options, message):
+    with pytest.raises(ModelError, match=message):
+        load_urdf(_urdf(tmp_path), tip="tool", platform_options=options)
+
+
+def test_a_wheel_without_geometry_names_the_option_that_gives_its_radius(tmp_path):
+    path = _urdf(tmp_path)
+    collision = '<collision><geometry><cylinder radius="0.1" length="0.04"/></geometry></collision>'
+    path.write_text(path.read_text().replace(collision, ""))
+    with pytest.raises(ModelError, match=r"wheel radius; give it: --platform-option wheel_radius=R"):
+        load_urdf(path, tip="tool")
+    assert load_urdf(path, tip="tool", platform_options={"wheel_radius": 0.1}).platform.wheel_radius == 0.1
+
+
+def _virtual_base(tmp_path) -> str:
+    """A simulator export: world → joint_x, joint_y (prismatic) → joint_rz (revolute) → base_link, and the
+    small file's wheels and arm below base_link."""
+    text = _urdf(tmp_path).read_text()
+    virtual = "".join(
+        f'<link name="{child}"/><joint name="{name}" type="{kind}"><parent link="{parent}"/>'
+        f'<child link="{child}"/><axis xyz="{axis}"/><limit lower="-10" upper="10" velocity="1" effort="1"/></joint>'
+        for name, kind, axis, parent, child in [
+            ("joint_x", "prismatic", "1 0 0", "world", "x_link"),
+            ("joint_y", "prismatic", "0 1 0", "x_link", "y_link"),
+            ("joint_rz", "revolute", "0 0 1", "y_link", "base_footprint"),
+        ]
+    )
+    path = tmp_path / "export.urdf"
+    path.write_text(
+        text.replace(
+            '<link name="base_footprint"/>', f'<link name="world"/><link name="base_footprint"/>{virtual}'
+        )
+    )
+    return path
+
+
+def test_virtual_base_joints_are_refused_naming_the_base_below_them(tmp_path):
+    path = _virtual_base(tmp_path)
+    with pytest.raises(
+        ModelError,
+        match=r"joints joint_x, joint_y, joint_rz on the chain to 'tool' move 'world'.*--base base_footprint",
+    ):
+        load_urdf(path, tip="tool", base="world")
+    below = load_urdf(path, tip="tool")  # from base_footprint: the small robot itself
+    q = _configurations(16, below.n_q, 2)
+    np.testing.assert_array_equal(K.forward(below, q), K.forward(load_urdf(_urdf(tmp_path), tip="tool"), q))
+
+
+MIMIC = """<?xml version="1.0"?>
+<robot name="mimic">
+  <link name="base_link"/>
+  <link name="wheel_right"><collision><geometry><sphere radius="0.12"/></geometry></collision></link>
+  <joint name="wheel_right_joint" type="continuous"><parent link="base_link"/><child link="wheel_right"/>
+    <origin xyz="0.05 -0.25 0.02"/><axis xyz="0 1 0"/></joint>
+  <link name="wheel_left"><collision><geometry><sphere radius="0.12"/></geometry></collision></link>
+  <joint name="wheel_left_joint" type="continuous"><parent link="base_link"/><child link="wheel_left"/>
+    <origin xyz="0.05 0.25 0.02"/><axis xyz="0 1 0"/></joint>
+  <link name="lift_link"/>
+  <joint name="arm_lift_joint" type="prismatic"><parent link="base_link"/><child link="lift_link"/>
+    <origin xyz="0.1 0 0.3"/><axis xyz="0 0 1"/><limit lower="0" upper="0.5" velocity="0.1" effort="100"/></joint>
+  <link name="hand"/>
+  <joint name="wrist_joint" type="revolute"><parent link="lift_link"/><child link="hand"/>
+    <origin xyz="0.2 0 0.1" rpy="0.3 0 0"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="1" effort="10"/></joint>
+  <link name="torso_link"/>
+  <joint name="torso_lift_joint" type="prismatic"><parent link="base_link"/><child link="torso_link"/>
+    <origin xyz="-0.1 0 0.4"/><axis xyz="0 0 1"/><limit lower="0" upper="0.3" velocity="0.1" effort="100"/>
+    <mimic joint="arm_lift_joint" multiplier="0.5" offset="0.01"/></joint>
+  <link name="head"/>
+  <joint name="head_tilt_joint" type="revolute"><parent link="torso_link"/><child link="head"/>
+    <origin xyz="0.05 0 0.2"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+</robot>
+"""
+"""HSR-like: the torso follows the arm lift at half its travel (plus 0.01 m), off the chain to the hand;
+base_link 0.12 − 0.02 = 0.1 m above the ground, the axle midpoint at x = 0.05 m."""
+
+
+def test_a_mimic_joint_follows_a_locked_leader_as_pinocchio_does(tmp_path):
+    path = tmp_path / "mimic.urdf"
+    path.write_text(MIMIC)
+    model = read_urdf(path, tip=["hand", "head"], base="base_link", locked={"arm_lift_joint": 0.2})
+    assert model.summary.mimics == (("torso_lift_joint", "arm_lift_joint", pytest.approx(0.11, abs=1e-15)),)
+    assert model.summary.base_height == pytest.approx(0.1, abs=1e-15) and model.summary.notes == ()
+    robot = model.robot
+    import pinocchio
+
+    pin_model = pinocchio.buildModelFromUrdf(str(path), mimic=True)
+    data = pin_model.createData()
+    q = _configurations(32, robot.n_q, 3)
+    q[:, 3] = np.clip(q[:, 3], -3, 3)
+    q[:, 4] = np.clip(q[:, 4], -1, 1)
+    links = K.frames(robot, q).links
+    for k, qk in enumerate(q):
+        v = np.zeros(pin_model.nq)
+        for name, value in [("arm_lift_joint", 0.2), ("wrist_joint", qk[3]), ("head_tilt_joint", qk[4])]:
+            v[pin_model.idx_qs[pin_model.getJointId(name)]] = value
+        pinocchio.framesForwardKinematics(pin_model, data, v)
+        # the platform frame at (x, y, θ) is base_link shifted to the axle midpoint on the ground
+        world = _platform_pose(qk[:3]) @ _translation(-0.05, 0.0, 0.1)
+        for arm, frame in enumerate(("hand", "head")):
+            expected = world @ data.oMf[pin_model.getFrameId(frame)].homogeneous
+            np.testing.assert_allclose(np.asarray(links[arm][1][k, -1]), expected[:3, 3], rtol=0, atol=1e-12)
+            np.testing.assert_allclose(np.asarray(links[arm][0][k, -1]), expected[:3, :3], rtol=0, atol=1e-12)
+
+
+def _platform_pose(q_p: np.ndarray) -> np.ndarray:
+    """The platform frame's pose in the world at q_p = (x, y, θ)."""
+    t = _translation(q_p[0], q_p[1], 0.0)
+    c, s = math.cos(q_p[2]), math.sin(q_p[2])
+    t[:2, :2] = [[c, -s], [s, c]]
+    return t
+
+
+def _translation(x: float, y: float, z: float) -> np.ndarray:
+    t = np.eye(4)
+    t[:3, 3] = (x, y, z)
+    return t
+
+
+def test_a_mimic_joint_of_an_arm_coordinate_is_said_or_refused(tmp_path):
+    path = tmp_path / "mimic.urdf"
+    path.write_text(MIMIC)
+    with pytest.warns(UrdfWarning, match="'torso_lift_joint' mimics 'arm_lift_joint'.*held at 0.01"):
+        model = read_urdf(path, tip="hand", base="base_link")
+    assert model.summary.mimics == (("torso_lift_joint", "arm_lift_joint", 0.01),)
+    assert "torso_lift_joint" not in model.summary.passive
+    with pytest.raises(
+        ModelError, match="'torso_lift_joint' on the chain to 'head' mimics 'arm_lift_joint'.*lock"
+    ):
+        read_urdf(path, tip=["hand", "head"], base="base_link")

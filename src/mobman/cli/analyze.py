@@ -175,6 +175,7 @@ def analyze_command(
     platform: str = UrdfOption.platform,
     wheels: str = UrdfOption.wheels,
     lock: list[str] = UrdfOption.lock,
+    platform_option: list[str] = UrdfOption.platform_option,
     q: str = typer.Option(
         None, "--q", help="One configuration v1,v2,… in the robot's coordinate order (pi allowed)."
     ),
@@ -191,7 +192,7 @@ def analyze_command(
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
 ) -> None:
     """Kinematics, redundancy (M, δ, D, R, D̄, R̄), singularities and manipulability at configurations."""
-    robot = load_robot(robot_name, param, urdf_options(tip, base, platform, wheels, lock))
+    robot = load_robot(robot_name, param, urdf_options(tip, base, platform, wheels, lock, platform_option))
     configurations = _configurations(robot, q, q_file)
     field = "--q-file" if q_file is not None else "--q"
     outside = outside_limits(robot, configurations, field, strict_limits)

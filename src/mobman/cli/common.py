@@ -8,6 +8,7 @@ import csv
 import os
 import shutil
 import sys
+import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import replace
 from pathlib import Path
@@ -29,6 +30,7 @@ from mobman.studies.floor import FootprintDisc, KeepOut, footprint_disc, keep_ou
 
 if TYPE_CHECKING:
     from mobman.dynamics import DynamicModel
+    from mobman.io.urdf import UrdfModel
     from mobman.studies.maps import ReachabilityMap
 
 
@@ -65,6 +67,14 @@ class UrdfOption:
     )
     lock = typer.Option(
         None, "--lock", help="URDF file: hold a joint at a value, JOINT=VALUE (rad or m; repeatable)."
+    )
+    platform_option = typer.Option(
+        None,
+        "--platform-option",
+        help="URDF file: a platform parameter KEY=VALUE that the file does not state or that overrides it "
+        "(repeatable): wheel_radius and half_track (m; wheels that are fixed joints or absent), a skid-steer's "
+        "wheelbase, x_icr, track_factor, wheel_speed_max, …; and base_height, the base link's height above "
+        "the ground (m) where no wheel gives it.",
     )
 
 
@@ -112,6 +122,7 @@ URDF_FLAGS = {
     "platform": "--platform",
     "wheels": "--wheels",
     "locked": "--lock",
+    "platform_options": "--platform-option",
 }
 """The command-line option of each :func:`mobman.io.urdf.read_urdf` argument the commands take."""
 
@@ -122,16 +133,18 @@ def urdf_options(
     platform: str | None = None,
     wheels: str | None = None,
     lock: list[str] | None = None,
+    platform_option: list[str] | None = None,
 ) -> dict:
     """The :func:`mobman.io.urdf.read_urdf` arguments given on the command line (``--tip``, ``--base``,
-    ``--platform``, ``--wheels RIGHT,LEFT``, ``--lock JOINT=VALUE``); those not given keep read_urdf's
-    defaults."""
+    ``--platform``, ``--wheels RIGHT,LEFT``, ``--lock JOINT=VALUE``, ``--platform-option KEY=VALUE``); those
+    not given keep read_urdf's defaults."""
     given = {
         "tip": tuple(tip) if tip else None,
         "base": base,
         "platform": platform,
         "wheels": None if wheels is None else tuple(name.strip() for name in wheels.split(",")),
         "locked": parse_params(lock, "--lock") if lock else None,
+        "platform_options": parse_params(platform_option, "--platform-option") if platform_option else None,
     }
     return {key: value for key, value in given.items() if value is not None}
 
@@ -301,20 +314,37 @@ def refuse_urdf_options(urdf: dict | None, what: str) -> None:
         raise InputError(f"{flags}: for a URDF file (a path ending in .urdf), not {what}")
 
 
+def read_urdf_file(name: str, urdf: dict | None = None, drawn: bool = False, say: bool = True) -> "UrdfModel":
+    """:func:`mobman.io.urdf.read_urdf` of a URDF file with the ``urdf`` options (:func:`urdf_options`); with
+    ``say``, what it reads differently from the file (:attr:`mobman.io.urdf.UrdfSummary.notes`) on one line
+    each on standard error, and for a robot that will be ``drawn`` the meshes not found in one line."""
+    from mobman.io.urdf import UrdfWarning, read_urdf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UrdfWarning)
+        model = read_urdf(name, **(urdf or {}))
+    if say:
+        lines = [*model.summary.notes, *([model.summary.mesh_note()] if drawn else [])]
+        for line in lines:
+            if line:
+                typer.echo(f"warning: {line}", err=True)
+    return model
+
+
 def load_robot(
-    name: str, params: list[str] | None = None, urdf: dict | None = None, arm: int = 0
+    name: str, params: list[str] | None = None, urdf: dict | None = None, arm: int = 0, drawn: bool = False
 ) -> MobileManipulator:
     """A built-in robot by name with --param overrides, a robot description file (a path ending in .toml), or
-    a URDF file (a path ending in .urdf, read by :func:`mobman.io.urdf.load_urdf` with the ``urdf`` options,
-    :func:`urdf_options`). Every robot also takes the --param ``mount.x``, ``mount.y``, ``mount.z``,
-    ``mount.yaw``, ``mount.pitch`` and ``mount.roll`` of arm ``arm``'s mount
-    (:func:`mobman.model.robots.design`); a file takes no other."""
+    a URDF file (a path ending in .urdf, read by :func:`read_urdf_file` with the ``urdf`` options,
+    :func:`urdf_options`, saying the meshes it lacks when the robot will be ``drawn``). Every robot also takes
+    the --param ``mount.x``, ``mount.y``, ``mount.z``, ``mount.yaw``, ``mount.pitch`` and ``mount.roll`` of
+    arm ``arm``'s mount (:func:`mobman.model.robots.design`); a file takes no other."""
     values = parse_params(params)
     if is_urdf_path(name) or name.endswith(".toml"):
         other = [key for key in values if key not in MOUNT]
         if other:
             rest = (
-                "a URDF file takes --tip, --base, --platform, --wheels and --lock"
+                "a URDF file takes --tip, --base, --platform, --wheels, --lock and --platform-option"
                 if is_urdf_path(name)
                 else "edit the robot file instead"
             )
@@ -322,9 +352,7 @@ def load_robot(
                 f"--param {other[0]}: a robot file takes only its arm's mount ({', '.join(MOUNT)}); {rest}"
             )
     if is_urdf_path(name):
-        from mobman.io.urdf import load_urdf
-
-        return design(load_urdf(name, **(urdf or {})), values, arm)
+        return design(read_urdf_file(name, urdf, drawn).robot, values, arm)
     refuse_urdf_options(urdf, f"robot {name!r}")
     if name.endswith(".toml"):
         from mobman.io import robot_file
@@ -350,12 +378,11 @@ def load_dynamics(
     from mobman.dynamics import DynamicModel, yamamoto_platform
     from mobman.errors import ModelError
     from mobman.io.real_robots import REAL_ROBOTS, urdf_model
-    from mobman.io.urdf import read_urdf
 
     key = command_name(name)
     if is_urdf_path(name) or key in REAL_ROBOTS:
         try:
-            model = urdf_model(key) if key in REAL_ROBOTS else read_urdf(name, **(urdf or {}))
+            model = urdf_model(key) if key in REAL_ROBOTS else read_urdf_file(name, urdf, say=False)
             dynamics, limits = DynamicModel.from_urdf(model), model.torque_limits()
         except ModelError as exc:
             raise ModelError(f"{option}: {exc}") from None

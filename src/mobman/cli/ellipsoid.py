@@ -79,6 +79,7 @@ def ellipsoid_command(
     platform: str = UrdfOption.platform,
     wheels: str = UrdfOption.wheels,
     lock: list[str] = UrdfOption.lock,
+    platform_option: list[str] = UrdfOption.platform_option,
     held: bool = typer.Option(
         False, "--held", help="Ellipsoid of an object held by all the arms (see --grasp)."
     ),
@@ -107,7 +108,7 @@ def ellipsoid_command(
         raise InputError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if grasp not in GRASPS:
         raise InputError(f"--grasp must be one of {', '.join(GRASPS)}, got {grasp!r}")
-    urdf = urdf_options(tip, base, platform, wheels, lock)
+    urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
     robot = load_robot(robot_name, param, urdf)
     configuration = parse_vector(q, "--q", robot.n_q)
     robot.validate_q(configuration)

@@ -115,13 +115,16 @@ def map_command(
     platform: str | None = UrdfOption.platform,
     wheels: str | None = UrdfOption.wheels,
     lock: list[str] | None = UrdfOption.lock,
+    platform_option: list[str] | None = UrdfOption.platform_option,
     quiet: bool = StudyOption.quiet,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Map where the arm's tool reaches around the platform, scored by manipulability."""
     if figure is not None and figure.suffix.lower() != ".png":
         raise InputError(f"--figure must name a .png file, got {str(figure)!r}")
-    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock), arm)
+    robot = load_robot(
+        robot_name, params, urdf_options(tip, base, platform, wheels, lock, platform_option), arm
+    )
     box = None if bounds is None else parse_vector(bounds, "--bounds", 6)
     with resumable("map", store), progress_bar("mapping", not (quiet or json_output)) as bar:
         try:

@@ -127,13 +127,14 @@ def sweep_command(
     platform: str | None = UrdfOption.platform,
     wheels: str | None = UrdfOption.wheels,
     lock: list[str] | None = UrdfOption.lock,
+    platform_option: list[str] | None = UrdfOption.platform_option,
     quiet: bool = StudyOption.quiet,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Score every design of a grid of a robot's parameters by manipulability, reach and coverage."""
     if top < 1:
         raise InputError(f"--top must be ≥ 1, got {top}")
-    urdf = urdf_options(tip, base, platform, wheels, lock)
+    urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
     source: str | MobileManipulator
     if command_name(robot_name) in ROBOTS:  # rebuilt for each design from its parameters
         refuse_urdf_options(urdf, f"robot {robot_name!r}")

@@ -44,6 +44,8 @@ URDF file with the options of :func:`mobman.io.urdf.read_urdf` (:func:`urdf_tabl
     platform = "auto"                # optional: auto | car | differential | fixed | omnidirectional | skid_steer
     wheels = ["wheel_right_joint", "wheel_left_joint"]   # optional: the drive wheels (right, left)
     locked = { head_1_joint = 0.0 }  # optional: joints held at a value (rad or m)
+    platform_options = { wheel_radius = 0.0613, half_track = 0.1875 }   # optional: platform parameters the
+                                     # file lacks or that override it, and base_height (m above the ground)
 """
 
 from __future__ import annotations
@@ -64,7 +66,7 @@ from mobman.model.tasks import Position
 
 CONVENTIONS = {"dh": Arm.from_dh, "modified-dh": Arm.from_modified_dh}
 ARM_KEYS = ("name", "convention", "table", "kinds", "velocity_max", "limits", "tool", "mount")
-URDF_KEYS = ("file", "tip", "base", "platform", "wheels", "locked")
+URDF_KEYS = ("file", "tip", "base", "platform", "wheels", "locked", "platform_options")
 """The keys of a ``[robot]`` table that names a URDF file."""
 
 if TYPE_CHECKING:
@@ -200,7 +202,8 @@ def robot_table(data: dict, base: Path | None = None, urdf: "UrdfModel | None" =
 def urdf_table(data: dict, base: Path | None = None) -> "UrdfModel | None":
     """The URDF model behind the ``[robot]`` table (robot, inertials, effort limits): a built-in real robot by
     ``name`` (``tiago``, …) or a URDF ``file`` (relative to ``base``) read with the table's ``tip``, ``base``,
-    ``platform``, ``wheels`` and ``locked`` (:func:`mobman.io.urdf.read_urdf`); None for any other robot."""
+    ``platform``, ``wheels``, ``locked`` and ``platform_options`` (:func:`mobman.io.urdf.read_urdf`); None for
+    any other robot."""
     from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 
     entry = fields.table(data, "robot", "robot")
@@ -241,7 +244,8 @@ def _read_urdf(entry: dict, path: Path) -> "UrdfModel":
         if len(wheels) != 2:
             raise InputError(f"robot.wheels: two joint names [right, left], got {list(wheels)}")
         options["wheels"] = wheels
-    if "locked" in entry:
-        locked = fields.table(entry, "locked", "robot.locked")
-        options["locked"] = {name: fields.number(locked, name, "robot.locked") for name in locked}
+    for key in ("locked", "platform_options"):
+        if key in entry:
+            values = fields.table(entry, key, f"robot.{key}")
+            options[key] = {name: fields.number(values, name, f"robot.{key}") for name in values}
     return read_urdf(path, **options)

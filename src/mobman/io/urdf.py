@@ -7,8 +7,15 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
   ``prismatic`` keep their position, velocity and effort limits; ``continuous`` is a revolute joint without
   position limits. Fixed joints are folded into the next joint's origin (after the last moving joint, into
   the arm's tool transform). Joints named in ``locked`` are held at the given value and folded the same way
-  (e.g. a torso shared by two arms, which mobman's arms cannot share). A ``floating`` or ``planar`` joint, or
-  a ``mimic`` joint, on a chain is an error naming it.
+  (e.g. a torso shared by two arms, which mobman's arms cannot share). A ``floating`` or ``planar`` joint on a
+  chain is an error naming it, and so are a simulator's virtual base joints (two prismatic joints across the
+  base's plane and a revolute one about its vertical starting the chain, joint_x, joint_y, joint_rz: the
+  platform's x, y, θ already move the base); the error names the link below them to take as the base.
+- **Mimic joints** (q = multiplier · q_leader + offset) follow a leader that does not move with q (a locked
+  joint, a passive one held at 0, another mimic): they are held at that value, on the chains (folded like a
+  locked joint) or off them. A mimic of an arm coordinate cannot follow it in a serial arm: on a chain it is an
+  error (lock the leader), off the chains (HSR's torso following its arm lift) it is held at its value for
+  the coordinate at 0, with a :class:`UrdfWarning`.
 - **Everything off the chains** (wheels, casters, fingers, head, suspension) is passive: held at zero (or
   its ``locked`` value) and listed in the :class:`UrdfSummary`. Its links move rigidly with the link they
   hang from, and their inertials and visuals are lumped into it.
@@ -25,12 +32,17 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
   casters) is taken; ``wheels=(right, left)`` names them. The wheel radius comes from the wheel link's
   collision cylinder or sphere (else its collision mesh's extent across the axle, else the visual geometry),
   the half track from the joint origins; ``wheel_radius=`` and ``half_track=`` override both. The platform
-  frame (the origin of q_p = (x, y, θ)) is the axle midpoint projected on the base frame's xy plane, axes of
-  the base frame; the base → platform offset is folded into each arm's first joint. ``"omnidirectional"``
+  frame (the origin of q_p = (x, y, θ)) is the axle midpoint on the ground the wheels stand on (the axle's
+  height less the wheel radius below the base link; the base link itself within 1 µm), axes of the base
+  frame, so heights are heights above the ground; the base → platform offset is folded into each arm's first
+  joint. Where the wheels are fixed joints or absent (simulator exports), a differential drive is built from
+  the ``wheel_radius`` and ``half_track`` given, its frame at the base link, and a skid-steer from those and
+  its ``wheelbase``; ``platform_options={"base_height": h}`` puts the platform frame h below the base link
+  where no wheel gives the ground (a :class:`UrdfWarning` says so when nothing gives it). ``"omnidirectional"``
   puts q_p at the base frame, and so does ``"fixed"`` (an arm on a base that does not move: no wheels needed)
   and any other platform kind without a URDF reader of its own (its parameters from ``platform_options``).
   ``"skid_steer"`` takes four continuous joints on two axles (front, rear); the platform frame is their
-  centre, the half track and the wheelbase come from the joint origins; a skid-steer's ``x_icr`` and
+  centre on the ground, the half track and the wheelbase come from the joint origins; a skid-steer's ``x_icr`` and
   ``track_factor`` are not in a URDF: pass them in ``platform_options``.
 - **Velocity limits.** A per-wheel speed limit |φ̇| ≤ φ̇_max makes the admissible (v, ω) set the diamond
   |v|/(r φ̇_max) + |ω|/(r φ̇_max / b) ≤ 1 (Yamamoto & Yun eq. 23–26: v = r(φ̇_r + φ̇_l)/2,
@@ -40,10 +52,12 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
 - **Visuals** (boxes, cylinders, spheres, meshes) are recorded as :class:`mobman.model.visual.Visual` in the
   frame of the platform or of the joint that moves them, for the viewer; ``package://`` and relative mesh
   paths are resolved from the URDF's location (yourdfpy's resolver, walking up its folders). A mesh that
-  cannot be found is a warning and is left out, not an error.
+  cannot be found is left out and listed in the summary (yourdfpy's log line per mesh is filtered out);
+  :meth:`UrdfSummary.mesh_note` is the one line a drawing of the robot says about them.
 - **Errors** name the link or joint: a tip that is not below the base, no wheel pair (with the continuous
-  joints seen), a shared moving joint, a floating or mimic joint on a chain, a file that is not URDF or
-  cannot be read. A ``.xacro`` file must be expanded first: ``xacro robot.urdf.xacro > robot.urdf``.
+  joints seen), a shared moving joint, a floating joint, virtual base joints or a mimic of an arm coordinate
+  on a chain, a platform option that is not one of the platform's parameters (naming those), a file that is
+  not URDF or cannot be read. A ``.xacro`` file must be expanded first: ``xacro robot.urdf.xacro > robot.urdf``.
 
 Writing (:func:`write_urdf`)
 ----------------------------
@@ -60,13 +74,15 @@ link inertials too.
 
 from __future__ import annotations
 
+import contextlib
 import difflib
+import logging
 import math
 import os
 import warnings
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any, Iterator, Mapping, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -82,6 +98,16 @@ from mobman.model.visual import Visual
 
 _MOVING = ("revolute", "continuous", "prismatic")
 _AXLE_TOL = 1e-4  # alignment tolerance of wheel axles (URDF angles are often rounded: 1.5708 for π/2)
+_ON_THE_GROUND = 1e-6  # a base link within 1 µm of the wheels' ground is on it (mesh radii are float32)
+READING_OPTIONS = ("base_height",)
+"""The ``platform_options`` that are not a platform's parameters but say how the file is read:
+``base_height``, the base link's height above the ground (m)."""
+
+
+class UrdfWarning(UserWarning):
+    """What :func:`read_urdf` reads differently from the file, said once per reading (also in
+    :attr:`UrdfSummary.notes`): a mimic joint that cannot follow its leader, a platform frame whose height
+    no wheel defines."""
 
 
 @dataclass(frozen=True)
@@ -90,8 +116,12 @@ class UrdfSummary:
 
     ``chains``: per arm, the joints kept (base to tip); ``folded``: fixed joints folded into origins;
     ``locked``: joints held at a value; ``passive``: moving joints off the chains, held at zero (their links
-    lumped into the link they hang from); ``wheels``: (right, left) wheel joints; ``platform_limits``: how the
-    platform's velocity limits were obtained; ``missing_meshes``: mesh files that could not be found.
+    lumped into the link they hang from); ``mimics``: (joint, leader, value) of the mimic joints held at their
+    leader's held value; ``wheels``: (right, left) wheel joints; ``base_height``: the base link's height above
+    the ground the platform frame is on (None: no wheel defines the ground and the platform frame is at the
+    base link's height); ``platform_limits``: how the platform's velocity limits were obtained;
+    ``missing_meshes``: mesh files that could not be found (:meth:`mesh_note`); ``notes``: what is read
+    differently from the file (each also a :class:`UrdfWarning`).
     """
 
     path: str
@@ -107,8 +137,11 @@ class UrdfSummary:
     wheel_radius: float | None = None
     half_track: float | None = None
     reference_point: tuple[float, float] = (0.0, 0.0)
+    base_height: float | None = None
     platform_limits: str = ""
     missing_meshes: tuple[str, ...] = ()
+    mimics: tuple[tuple[str, str, float], ...] = ()
+    notes: tuple[str, ...] = ()
 
     def lines(self) -> list[str]:
         """The summary as readable lines."""
@@ -121,6 +154,10 @@ class UrdfSummary:
                 f"half track {self.half_track:.6g} m; platform frame at the axle midpoint "
                 f"({self.reference_point[0]:.6g}, {self.reference_point[1]:.6g}) in {self.base}"
             )
+        if self.base_height is None:
+            out.append(f"platform frame at the height of {self.base}: heights are measured from it")
+        else:
+            out.append(f"platform frame on the ground, {self.base_height:.6g} m below {self.base}")
         if self.platform_limits:
             out.append(self.platform_limits)
         out.append(f"fixed joints folded: {len(self.folded)}")
@@ -128,9 +165,25 @@ class UrdfSummary:
             out.append("locked: " + ", ".join(f"{n} = {v:.6g}" for n, v in self.locked))
         if self.passive:
             out.append(f"passive joints off the chains, held at 0: {', '.join(self.passive)}")
+        if self.mimics:
+            held = ", ".join(f"{n} = {v:.6g} (follows {leader})" for n, leader, v in self.mimics)
+            out.append(f"mimic joints held at their leader's value: {held}")
         if self.missing_meshes:
             out.append(f"meshes not found (not drawn): {', '.join(self.missing_meshes)}")
+        out.extend(self.notes)
         return out
+
+    def mesh_note(self) -> str | None:
+        """One line on the meshes that could not be found (None when every one was): what a drawing of the
+        robot says, once, instead of a line per mesh."""
+        n = len(self.missing_meshes)
+        if not n:
+            return None
+        where = os.path.dirname(os.path.abspath(self.path))
+        return (
+            f"{n} mesh{'es' if n > 1 else ''} of {self.name} not found from {where} (package:// and relative "
+            "paths are searched from the file's folder up): those links are drawn without them"
+        )
 
     def __str__(self) -> str:
         return "\n".join(self.lines())
@@ -365,7 +418,8 @@ def _visuals(
     materials: dict,
     missing: list,
 ) -> tuple:
-    """The visual shapes of ``links`` in the frame of pose ``frame``; missing meshes are warned about."""
+    """The visual shapes of ``links`` in the frame of pose ``frame``; meshes not found are left out and
+    their file names added to ``missing``."""
     from yourdfpy import filename_handler_magic
 
     inv = np.linalg.inv(frame)
@@ -391,16 +445,31 @@ def _visuals(
                 resolved = filename_handler_magic(g.mesh.filename, dir=directory)
                 if not os.path.isfile(resolved):
                     missing.append(g.mesh.filename)
-                    warnings.warn(
-                        f"URDF link {name!r}: mesh {g.mesh.filename!r} not found; the link is drawn without it",
-                        stacklevel=4,
-                    )
                     continue
                 scale = np.broadcast_to(np.asarray(1.0 if g.mesh.scale is None else g.mesh.scale, float), 3)
                 shapes.append(
                     Visual("mesh", filename=os.path.abspath(resolved), scale=tuple(scale), **common)
                 )
     return tuple(shapes)
+
+
+class _UnresolvedMesh(logging.Filter):
+    """Drops yourdfpy's line per mesh file it cannot resolve: :func:`read_urdf` lists them in its summary and
+    a drawing says them in one line (:meth:`UrdfSummary.mesh_note`)."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not str(record.msg).startswith("Unable to resolve filename")
+
+
+@contextlib.contextmanager
+def _unresolved_meshes_collected() -> Iterator[None]:
+    logger = logging.getLogger("yourdfpy.urdf")
+    quiet = _UnresolvedMesh()
+    logger.addFilter(quiet)
+    try:
+        yield
+    finally:
+        logger.removeFilter(quiet)
 
 
 def _geometry_radius(link: Any, axle_local: np.ndarray, directory: str) -> float | None:
@@ -447,15 +516,13 @@ class _PlatformReader:
         base_pose: np.ndarray,
         directory: str,
         wheels: tuple[str, str] | None,
-        radius: float | None,
-        half_track: float | None,
         options: Mapping[str, float],
     ) -> None:
         self.tree, self.poses, self.directory = tree, poses, directory
         self.inv = np.linalg.inv(base_pose)
         self.candidates = [j for j in passive if j.type == "continuous" and groups[j.parent] is None]
         self.on_platform = [j for j in passive if groups[j.parent] is None]
-        self.wheels, self.radius, self.track, self.options = wheels, radius, half_track, options
+        self.wheels, self.options = wheels, options
 
     def _centre_axis(self, joint: Any) -> tuple[np.ndarray, np.ndarray]:
         """Centre and axle of a wheel joint in the base frame (the joint frame after its motion is the wheel
@@ -526,7 +593,9 @@ class _PlatformReader:
             raise ModelError(
                 "URDF: no pair of wheel joints with a common horizontal axle (two continuous joints off the arm "
                 f"chains); continuous joints seen: {seen}; name the drive wheels (wheels=(right, left), "
-                "--wheels RIGHT,LEFT) or choose another platform (platform='omnidirectional' or 'fixed', --platform)"
+                "--wheels RIGHT,LEFT), give the wheel radius and half track where the wheels are fixed joints or "
+                "absent (--platform-option wheel_radius=R --platform-option half_track=B) or choose another "
+                "platform (platform='omnidirectional' or 'fixed', --platform)"
             )
         if len(pairs) > 1:
             listed = "; ".join(f"({a.name}, {b.name})" for a, b in pairs)
@@ -546,19 +615,34 @@ class _PlatformReader:
                     out.append(self._wheel(j))
         return out
 
-    def wheel_radius(self, wheel: UrdfWheel) -> float:
-        if self.radius is not None:
-            return float(self.radius)
+    def _geometry_radius(self, wheel: UrdfWheel) -> float | None:
         joint = self.tree.joints[wheel.name]
-        r = _geometry_radius(self.tree.links[joint.child], _axis(joint), self.directory)
+        return _geometry_radius(self.tree.links[joint.child], _axis(joint), self.directory)
+
+    def wheel_radius(self, wheel: UrdfWheel) -> float:
+        if "wheel_radius" in self.options:
+            return float(self.options["wheel_radius"])
+        r = self._geometry_radius(wheel)
         if r is None:
             raise ModelError(
-                f"URDF link {joint.child!r}: no cylinder, sphere or mesh gives the wheel radius; pass wheel_radius="
+                f"URDF link {self.tree.joints[wheel.name].child!r}: no cylinder, sphere or mesh gives the wheel "
+                "radius; give it: --platform-option wheel_radius=R (platform_options={'wheel_radius': R})"
             )
         return r
 
     def half_track(self, measured: float) -> float:
-        return float(measured) if self.track is None else float(self.track)
+        return float(self.options.get("half_track", measured))
+
+    def base_height(self, wheels: Sequence[UrdfWheel], radius: float | None = None) -> float | None:
+        if radius is None:
+            radius = self.options.get("wheel_radius", self._geometry_radius(wheels[0]))
+        if radius is None:
+            return None
+        height = float(radius) - float(np.mean([w.z for w in wheels]))
+        return 0.0 if abs(height) < _ON_THE_GROUND else height
+
+    def without_wheels(self, *names: str) -> bool:
+        return self.wheels is None and not self._pairs() and all(n in self.options for n in names)
 
     def wheel_speed(self, wheels: Sequence[UrdfWheel]) -> float | None:
         joints = [self.tree.joints[w.name] for w in wheels]
@@ -569,8 +653,10 @@ class _PlatformReader:
         allowed = [f.name for f in fields(cls) if f.init]
         for key in self.options:
             if key not in allowed:
+                listed = ", ".join([*allowed, *READING_OPTIONS])
                 raise ModelError(
-                    f"platform_options: {key!r} is not a parameter of {cls.__name__} (allowed: {', '.join(allowed)})"
+                    f"platform option {key!r}: not a parameter of {cls.__name__} (the {cls.kind} platform; "
+                    f"allowed: {listed})"
                 )
         return cls(**{**{k: v for k, v in values.items() if k in allowed}, **self.options})
 
@@ -584,6 +670,96 @@ def _spin_inertia(tree: _Tree, joint: Any, poses: Mapping[str, np.ndarray]) -> f
         return 0.0
     axis = _axis(joint)
     return float(axis @ lumped[2] @ axis)
+
+
+def _mimic_values(
+    tree: _Tree, locked: Mapping[str, float], paths: Sequence[Sequence[Any]], tips: Sequence[str]
+) -> tuple[dict[str, float], list[tuple[str, str, float]], list[str]]:
+    """Where each mimic joint is held: URDF's q = multiplier · q_leader + offset, with the leader's held value
+    (locked, or 0 for a passive joint, or a mimic's own held value), so that it follows a leader that does not
+    move with q. A mimic of a chain coordinate (directly or through other mimics) cannot follow it in a serial
+    arm: on a chain it is an error, off the chains it is held at the value for the coordinate at 0, with a
+    note. Returns the held values (the ``locked`` ones included), the (joint, leader, value) of each mimic
+    held, and the notes."""
+    coordinates = {
+        j.name: t
+        for t, joints in zip(tips, paths)
+        for j in joints
+        if j.type in _MOVING and j.name not in locked and j.mimic is None
+    }
+    on_paths = {j.name: t for t, joints in zip(tips, paths) for j in joints}
+    known: dict[str, tuple[float, str | None]] = {n: (v, None) for n, v in locked.items()}
+    mimics: list[tuple[str, str, float]] = []
+    notes: list[str] = []
+
+    def value(joint: Any, seen: tuple[str, ...]) -> tuple[float, str | None]:
+        """The held value of ``joint`` and the chain coordinate it follows (None: it follows none)."""
+        if joint.name in known:
+            return known[joint.name]
+        if joint.name in coordinates:
+            return 0.0, joint.name
+        if joint.mimic is None or joint.type not in _MOVING:
+            return 0.0, None
+        if joint.name in seen:
+            raise ModelError(f"URDF mimic joints {' → '.join((*seen, joint.name))}: a cycle")
+        leader = tree.joints.get(joint.mimic.joint)
+        if leader is None:
+            raise ModelError(
+                f"URDF joint {joint.name!r} mimics {joint.mimic.joint!r}, which is not a joint of the file"
+            )
+        lead, coordinate = value(leader, (*seen, joint.name))
+        multiplier = 1.0 if joint.mimic.multiplier is None else float(joint.mimic.multiplier)
+        offset = 0.0 if joint.mimic.offset is None else float(joint.mimic.offset)
+        known[joint.name] = (multiplier * lead + offset, coordinate)
+        return known[joint.name]
+
+    for joint in tree.joints.values():
+        if joint.mimic is None or joint.name in locked or joint.type not in _MOVING:
+            continue
+        held, coordinate = value(joint, ())
+        mimics.append((joint.name, joint.mimic.joint, held))
+        if coordinate is None:
+            continue
+        if joint.name in on_paths:
+            raise ModelError(
+                f"URDF joint {joint.name!r} on the chain to {on_paths[joint.name]!r} mimics "
+                f"{joint.mimic.joint!r}, which moves with {coordinate!r} of the chain to "
+                f"{coordinates[coordinate]!r}: mobman's arms have one coordinate per joint; lock {coordinate} "
+                f"(locked={{{coordinate!r}: value}}, --lock) and it follows"
+            )
+        notes.append(
+            f"URDF joint {joint.name!r} mimics {joint.mimic.joint!r}, which moves with the arm coordinate "
+            f"{coordinate!r}: off the arm chains it cannot follow it and is held at {held:.6g} (the value at "
+            f"{coordinate} = 0) with the links below it; lock {coordinate} to have it follow"
+        )
+    return {name: v for name, (v, _) in known.items()}, mimics, notes
+
+
+def _planar_base_joints(chain: Sequence[Any], poses: Mapping[str, np.ndarray], base_pose: np.ndarray) -> list:
+    """The virtual base joints a simulator export starts the chain with (joint_x, joint_y, joint_rz): two
+    prismatic joints across the base's plane and at most one revolute joint about its vertical (after them
+    only at their point, as exports stack them); [] when the chain does not start so."""
+    inv = np.linalg.inv(base_pose)
+    run: list = []
+    translations: list[np.ndarray] = []
+    turned = False
+    for j in chain:
+        axis = (inv @ poses[j.parent] @ _origin(j))[:3, :3] @ _axis(j)
+        if j.type == "prismatic" and abs(axis[2]) < _AXLE_TOL and len(translations) < 2:
+            translations.append(axis)
+        elif (
+            j.type != "prismatic"
+            and not turned
+            and abs(abs(axis[2]) - 1.0) < _AXLE_TOL
+            and (len(translations) < 2 or np.allclose(_origin(j)[:3, 3], 0.0))
+        ):
+            turned = True
+        else:
+            break
+        run.append(j)
+    if len(translations) < 2 or abs(np.cross(translations[0], translations[1])[2]) < _AXLE_TOL:
+        return []
+    return run
 
 
 def read_urdf(
@@ -602,11 +778,14 @@ def read_urdf(
 
     ``tip``: the end-effector link, or several (one arm each); ``base``: the platform link; ``platform``:
     ``"auto"`` | ``"differential"`` | ``"car"`` | ``"skid_steer"`` | ``"omnidirectional"`` | ``"fixed"``;
-    ``wheels``: (right, left) wheel joint names; ``wheel_radius``, ``half_track``: override the values read;
-    ``name``: the robot's name (default the URDF's); ``locked``: joints held at fixed values (rad or m);
-    ``platform_options``: further parameters of the platform that a URDF does not state (e.g. a skid-steer's
-    ``x_icr`` and ``track_factor``). Returns the robot, its :class:`UrdfSummary`,
-    the platform's inertials and the effort limits.
+    ``wheels``: (right, left) wheel joint names; ``wheel_radius``, ``half_track``: override the values read
+    (the same as these keys of ``platform_options``); ``name``: the robot's name (default the URDF's);
+    ``locked``: joints held at fixed values (rad or m); ``platform_options``: the platform's parameters that
+    the file does not state or that override it (a skid-steer's ``x_icr`` and ``track_factor``, a wheel
+    radius and half track where the wheels are fixed joints or absent) and ``base_height``, the base link's
+    height above the ground (m) where the wheels do not give it. Returns the robot, its :class:`UrdfSummary`,
+    the platform's inertials and the effort limits; what is read differently from the file is also a
+    :class:`UrdfWarning`.
     """
     kinds = ("auto", *platform_kinds())
     if platform not in kinds:
@@ -616,7 +795,31 @@ def read_urdf(
     if wheels is not None and (isinstance(wheels, str) or len(wheels) != 2):
         raise ModelError(f"wheels: two joint names (right, left), got {wheels!r}")
     options = dict(platform_options or {})
-    urdf, file = _parse(path)
+    options.update(
+        {k: v for k, v in (("wheel_radius", wheel_radius), ("half_track", half_track)) if v is not None}
+    )
+    for key, value in options.items():
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+            raise ModelError(f"platform option {key}: must be a finite number, got {value!r}")
+    given_height = options.pop("base_height", None)
+    with _unresolved_meshes_collected():
+        urdf, file = _parse(path)
+        return _read(urdf, file, tip, base, platform, wheels, name, locked, options, given_height)
+
+
+def _read(
+    urdf: Any,
+    file: Path,
+    tip: str | Sequence[str],
+    base: str,
+    platform: str,
+    wheels: tuple[str, str] | None,
+    name: str | None,
+    locked: Mapping[str, float] | None,
+    options: dict[str, float],
+    given_height: float | None,
+) -> UrdfModel:
+    """:func:`read_urdf` of the parsed file ``urdf`` with its checked options."""
     tree = _Tree.of(urdf.robot)
     tips = (tip,) if isinstance(tip, str) else tuple(tip)
     if not tips:
@@ -628,6 +831,9 @@ def read_urdf(
         if not math.isfinite(value):
             raise ModelError(f"locked: {joint_name} must be finite, got {value!r}")
     paths = [tree.path(base, t) for t in tips]
+    held, mimics, notes = _mimic_values(tree, locked, paths, tips)
+    poses = _poses(tree, held)
+    base_pose = poses[base]
     chains: list[list] = []
     owner: dict[str, str] = {}
     for t, joints in zip(tips, paths):
@@ -635,13 +841,8 @@ def read_urdf(
         for j in joints:
             if j.type in ("floating", "planar"):
                 raise ModelError(f"URDF joint {j.name!r} on the chain to {t!r} is {j.type}: not supported")
-            if j.type not in _MOVING or j.name in locked:
+            if j.type not in _MOVING or j.name in held:
                 continue
-            if j.mimic is not None:
-                raise ModelError(
-                    f"URDF joint {j.name!r} on the chain to {t!r} mimics {j.mimic.joint!r}: not supported "
-                    "(lock it with locked={...})"
-                )
             if j.name in owner:
                 raise ModelError(
                     f"URDF joint {j.name!r} is on the chains to {owner[j.name]!r} and {t!r}; mobman's arms share "
@@ -651,25 +852,35 @@ def read_urdf(
             chain.append(j)
         if not chain:
             raise ModelError(f"URDF: no moving joint between {base!r} and {t!r}")
+        virtual = _planar_base_joints(chain, poses, base_pose)
+        if virtual:
+            raise ModelError(
+                f"URDF joints {', '.join(j.name for j in virtual)} on the chain to {t!r} move {base!r} in the "
+                "plane (a simulator's virtual base joints): the platform's x, y, θ already do; read the robot "
+                f"from the link below them (--base {virtual[-1].child}, base={virtual[-1].child!r})"
+            )
         chains.append(chain)
     starts = {j.child: (i, k) for i, chain in enumerate(chains) for k, j in enumerate(chain)}
-    poses = _poses(tree, locked)
     groups = _groups(tree, starts)
     on_chain = {j.name for chain in chains for j in chain}
     passive = [
         j for j in urdf.robot.joints if j.type in _MOVING and j.name not in on_chain and j.name not in locked
     ]
-    base_pose = poses[base]
     directory = str(file.parent)
 
-    # platform
-    reader = _PlatformReader(
-        tree, passive, groups, poses, base_pose, directory, wheels, wheel_radius, half_track, options
-    )
+    # platform: its frame on the ground the wheels define (or base_height given), at their reference point
+    reader = _PlatformReader(tree, passive, groups, poses, base_pose, directory, wheels, options)
     reading = platform_class("differential" if platform == "auto" else platform).from_urdf(reader)
     platform_model = reading.platform
     wheel_joints = [tree.joints[n] for n in reading.wheel_joints]
-    offset = np.array([*reading.reference, 0.0])
+    height = reading.base_height if given_height is None else float(given_height)
+    if height is None and platform_model.wheels():
+        notes.append(
+            f"no wheel joint of the file gives the ground under {base!r}: the platform frame is at its height and "
+            f"every height is measured from it; give its height above the ground: --platform-option "
+            "base_height=H (platform_options={'base_height': H}), or choose a base link on the ground"
+        )
+    offset = np.array([*reading.reference, -(height or 0.0)])
     summary_extra = _platform_summary(reading, reader)
     wheel_pair = tuple(wheel_joints) or None
     platform_pose = base_pose @ spatial.as_matrix(spatial.transform(None, tuple(offset)))
@@ -690,7 +901,7 @@ def read_urdf(
             if j.name not in chain_names:
                 acc = acc @ _origin(j)
                 if j.type in _MOVING:
-                    acc = acc @ _motion(j.type, _axis(j), locked[j.name])
+                    acc = acc @ _motion(j.type, _axis(j), held[j.name])
                 else:
                     folded.append(j.name)
                 continue
@@ -739,10 +950,15 @@ def read_urdf(
         chains=tuple(tuple(j.name for j in chain) for chain in chains),
         folded=tuple(folded),
         locked=tuple(locked.items()),
-        passive=tuple(j.name for j in passive),
+        passive=tuple(j.name for j in passive if j.mimic is None),
         missing_meshes=tuple(dict.fromkeys(missing)),
+        base_height=height,
+        mimics=tuple(mimics),
+        notes=tuple(notes),
         **summary_extra,
     )
+    for note in notes:
+        warnings.warn(note, UrdfWarning, stacklevel=3)
     return UrdfModel(robot, summary, body, wheel, tuple(efforts))
 
 

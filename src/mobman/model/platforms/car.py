@@ -111,7 +111,8 @@ class CarLike(Platform):
     def from_urdf(cls, urdf: UrdfReader) -> UrdfPlatform:
         """The rear axle (the file's one wheel pair, or ``wheels=``) and one steering joint on the platform's
         centre line ahead of it: the platform frame at the rear axle's midpoint, ``length`` the steering
-        joint's distance ahead of it."""
+        joint's distance ahead of it; the platform frame on the ground where the rear wheels' geometry gives
+        their radius."""
         right, left = urdf.wheel_pair()
         reference = midpoint(right, left)
         ahead = [s for s in urdf.steering_joints() if abs(s.y - reference[1]) < 1e-9]
@@ -122,7 +123,8 @@ class CarLike(Platform):
                 f"centre line ahead of the rear axle); candidates seen: {seen}"
             )
         platform = urdf.build(cls, length=ahead[0].x - reference[0])
-        return UrdfPlatform(platform, reference, (right.name, left.name), (right.name, left.name))
+        names = (right.name, left.name)
+        return UrdfPlatform(platform, reference, names, names, urdf.base_height((right, left)))
 
     def urdf_joints(self) -> tuple[UrdfJoint, ...]:
         """The rear wheels, the steering joint at (length, 0) and the front wheel it turns (none driven)."""

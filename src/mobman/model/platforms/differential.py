@@ -113,8 +113,11 @@ class DifferentialDrive(Platform):
     @classmethod
     def from_urdf(cls, urdf: UrdfReader) -> UrdfPlatform:
         """The file's one axle (or the ``wheels=`` pair): r from the right wheel's geometry, b half the
-        distance between the wheels, the platform frame at the axle midpoint and the wheel speed limit the
-        smaller of the two joints' velocity limits."""
+        distance between the wheels, the platform frame at the axle midpoint on the ground (the axle's height
+        less r) and the wheel speed limit the smaller of the two joints' velocity limits. A file without
+        wheel joints is read from the ``wheel_radius`` and ``half_track`` given, its frame at the base link."""
+        if urdf.without_wheels("wheel_radius", "half_track"):
+            return UrdfPlatform(urdf.build(cls))
         right, left = urdf.wheel_pair()
         platform = urdf.build(
             cls,
@@ -122,7 +125,9 @@ class DifferentialDrive(Platform):
             half_track=urdf.half_track(distance(right, left) / 2),
             wheel_speed_max=urdf.wheel_speed((right, left)),
         )
-        return UrdfPlatform(platform, midpoint(right, left), (right.name, left.name), (right.name, left.name))
+        names = (right.name, left.name)
+        height = urdf.base_height((right, left), platform.wheel_radius)
+        return UrdfPlatform(platform, midpoint(right, left), names, names, height)
 
     def wheel_matrix(self) -> np.ndarray:
         """W with (v, ω) = W (φ̇_r, φ̇_l): v = r(φ̇_r + φ̇_l)/2, ω = r(φ̇_r − φ̇_l)/(2b) (Korayem eq. 14–15)."""

@@ -173,13 +173,17 @@ class SkidSteer(Platform):
         """The file's two axles (front, rear): r from the front right wheel's geometry, b half the distance
         between the front wheels, the wheelbase the distance between the axles, the platform frame at the
         centre of the four wheels; x_icr and track_factor from ``platform_options`` (a URDF does not state
-        them)."""
+        them). The platform frame is on the ground (the wheels' height less r). A file without wheel joints is
+        read from the ``wheel_radius``, ``half_track`` and ``wheelbase`` given, its frame at the base link."""
+        if urdf.without_wheels("wheel_radius", "half_track", "wheelbase"):
+            return UrdfPlatform(urdf.build(cls))
         axles = urdf.axles()
         if len(axles) != 2 or len({w.name for axle in axles for w in axle}) != 4:
             seen = ", ".join(urdf.continuous_joints()) or "none"
             raise ModelError(
                 "platform='skid_steer': needs four wheel joints on two axles (continuous joints off the arm "
-                f"chains); continuous joints seen: {seen}"
+                f"chains); continuous joints seen: {seen}; without them give wheel_radius, half_track and "
+                "wheelbase (--platform-option KEY=VALUE)"
             )
         (front_right, front_left), (rear_right, rear_left) = sorted(axles, key=lambda a: -(a[0].x + a[1].x))
         wheels: tuple[UrdfWheel, ...] = (front_right, rear_right, front_left, rear_left)  # as in wheels()
@@ -192,4 +196,5 @@ class SkidSteer(Platform):
         )
         centre = (sum(w.x for w in wheels) / 4, sum(w.y for w in wheels) / 4)
         names = tuple(w.name for w in wheels)
-        return UrdfPlatform(platform, centre, names, (front_right.name, front_left.name))
+        height = urdf.base_height(wheels, platform.wheel_radius)
+        return UrdfPlatform(platform, centre, names, (front_right.name, front_left.name), height)

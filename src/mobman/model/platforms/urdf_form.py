@@ -2,12 +2,12 @@
 
 A platform reads itself with :meth:`~mobman.model.platforms.base.Platform.from_urdf` from a
 :class:`UrdfReader`, the view of the file that :mod:`mobman.io.urdf` gives it: the wheel joints off the arm
-chains with their centres in the base link, grouped into axles, the steering joints, a wheel's radius and the
-joints' speed limits, and the values the caller passed (``wheels=``, ``wheel_radius=``, ``half_track=``,
-``platform_options=``). It answers with a :class:`UrdfPlatform`: the model, its reference point and which
-joints are its wheels. It writes itself as the :class:`UrdfJoint` list of
-:meth:`~mobman.model.platforms.base.Platform.urdf_joints`. So a new wheeled platform is one module: the
-vocabulary of wheels, axles and steering joints is shared.
+chains with their centres in the base link, grouped into axles, the steering joints, a wheel's radius, the
+joints' speed limits, the base link's height above the ground the wheels stand on, and the values the caller
+passed (``wheels=``, ``wheel_radius=``, ``half_track=``, ``platform_options=``). It answers with a
+:class:`UrdfPlatform`: the model, its reference point on the ground and which joints are its wheels. It
+writes itself as the :class:`UrdfJoint` list of :meth:`~mobman.model.platforms.base.Platform.urdf_joints`. So
+a new wheeled platform is one module: the vocabulary of wheels, axles and steering joints is shared.
 """
 
 from __future__ import annotations
@@ -43,13 +43,16 @@ def distance(a: UrdfWheel, b: UrdfWheel) -> float:
 
 class UrdfPlatform(NamedTuple):
     """A platform read from a URDF: the model, its reference point (x, y) in the base link (the platform
-    frame), its wheel joints in the order of :meth:`Platform.wheels` and the (right, left) pair that the
-    reading's summary names (None: no wheels)."""
+    frame), its wheel joints in the order of :meth:`Platform.wheels`, the (right, left) pair that the
+    reading's summary names (None: no wheels) and ``base_height``, the base link's height above the ground
+    the wheels define (:meth:`UrdfReader.base_height`), where the platform frame is; None: no wheel defines
+    it, the platform frame is at the base link's height."""
 
     platform: Platform
     reference: tuple[float, float] = (0.0, 0.0)
     wheel_joints: tuple[str, ...] = ()
     sides: tuple[str, str] | None = None
+    base_height: float | None = None
 
 
 class UrdfReader(Protocol):
@@ -82,6 +85,20 @@ class UrdfReader(Protocol):
 
     def half_track(self, measured: float) -> float:
         """``measured``, or the ``half_track=`` given."""
+        ...
+
+    def base_height(self, wheels: Sequence[UrdfWheel], radius: float | None = None) -> float | None:
+        """The base link's height above the ground the ``wheels`` stand on: the wheel radius (``radius``, else
+        the one given, else the first wheel's geometry; None when nothing gives it) less the wheel centres'
+        mean height in the base link; 0 within 1 µm (a radius measured on a mesh carries its single-precision
+        rounding)."""
+        ...
+
+    def without_wheels(self, *names: str) -> bool:
+        """Whether the file has no axle (none found, none named with ``wheels=``) and the caller gave every
+        one of the platform parameters ``names`` (``wheel_radius=``, ``half_track=``, ``platform_options``):
+        then the platform is built from them alone, its frame at the base link (wheels that are fixed joints
+        or absent, as in simulator exports)."""
         ...
 
     def wheel_speed(self, wheels: Sequence[UrdfWheel]) -> float | None:
