@@ -1,9 +1,9 @@
 """The package's imports respect its layers (CONTRIBUTING.md): read from the source with ``ast``, nothing is
 imported. Every import counts, also those inside functions.
 
-    cli → experiments → studies → control, planning, dynamics → manipulability, redundancy, symbolic → kinematics → model
+    cli → experiments → studies → control, planning, dynamics → manipulability, redundancy, symbolic → collision → kinematics → model
 
-with errors, checks and the engine below everything; ``io`` imports only model, errors and checks and is imported
+with errors, checks and the engine below everything; ``io`` imports only model, errors, checks and the engine and is imported
 by cli, experiments, control, planning and dynamics; ``viz`` is imported only by cli and experiments.
 """
 
@@ -24,6 +24,7 @@ LAYERS = {
     "mobman": 1,  # the package itself re-exports the errors and the model
     "mobman.model": 1,
     "mobman.kinematics": 2,
+    "mobman.collision": 2.5,  # distances: above the kinematics, below the analysis
     "mobman.manipulability": 3,
     "mobman.redundancy": 3,
     "mobman.symbolic": 3,
@@ -33,10 +34,11 @@ LAYERS = {
     "mobman.viz": 4,
     "mobman.io": 4,
     "mobman.studies": 5,
+    "mobman.physics": 5,
     "mobman.experiments": 6,
     "mobman.cli": 7,
 }
-IO_MAY_IMPORT = ("mobman.io", "mobman.model", "mobman.errors", "mobman.checks")
+IO_MAY_IMPORT = ("mobman.io", "mobman.model", "mobman.errors", "mobman.checks", "mobman.engine")
 IO_IMPORTED_BY = (
     "mobman.io",
     "mobman.cli",

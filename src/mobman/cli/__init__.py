@@ -14,6 +14,7 @@ import typer
 # Each module registers its commands on ``app`` when imported.
 from mobman.cli import (  # noqa: F401
     analyze,
+    distance,
     dynamics,
     ellipsoid,
     maps,
@@ -28,6 +29,7 @@ from mobman.cli import (  # noqa: F401
 from mobman.cli.app import INTERRUPTED, app
 from mobman.engine import compilation_cache, exported
 from mobman.errors import MobmanError
+from mobman.io import urdf_cache
 
 
 def _one_line(text: str) -> str:
@@ -42,16 +44,20 @@ def _command(argv: list[str] | None) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     """Entry point of the console script; the exit status is that of :data:`EXIT_CODES`. The command keeps its
-    compiled and exported programs between runs (:mod:`mobman.engine.exported`), for its own calls only."""
+    compiled and exported programs and its URDF readings between runs (:mod:`mobman.engine.exported`,
+    :mod:`mobman.io.urdf_cache`), for its own calls only."""
     command = _command(argv)
     try:
-        exported.enable(compilation_cache.enable())
+        folder = compilation_cache.enable()
+        exported.enable(folder)
+        urdf_cache.enable(folder)
     except MobmanError as exc:  # the command still runs, compiling every program
         typer.echo(f"warning: {_one_line(str(exc))}", err=True)
     try:
         _run(argv, command)
     finally:
         exported.disable()
+        urdf_cache.disable()
 
 
 def _run(argv: list[str] | None, command: str) -> None:

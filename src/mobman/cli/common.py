@@ -315,14 +315,16 @@ def refuse_urdf_options(urdf: dict | None, what: str) -> None:
 
 
 def read_urdf_file(name: str, urdf: dict | None = None, drawn: bool = False, say: bool = True) -> "UrdfModel":
-    """:func:`mobman.io.urdf.read_urdf` of a URDF file with the ``urdf`` options (:func:`urdf_options`); with
+    """:func:`mobman.io.urdf.read_urdf` of a URDF file (kept on disk between commands:
+    :mod:`mobman.io.urdf_cache`) with the ``urdf`` options (:func:`urdf_options`); with
     ``say``, what it reads differently from the file (:attr:`mobman.io.urdf.UrdfSummary.notes`) on one line
     each on standard error, and for a robot that will be ``drawn`` the meshes not found in one line."""
-    from mobman.io.urdf import UrdfWarning, read_urdf
+    from mobman.io import urdf_cache
+    from mobman.io.urdf import UrdfWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UrdfWarning)
-        model = read_urdf(name, **(urdf or {}))
+        model = urdf_cache.read(name, **(urdf or {}))
     if say:
         lines = [*model.summary.notes, *([model.summary.mesh_note()] if drawn else [])]
         for line in lines:

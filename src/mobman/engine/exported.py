@@ -124,7 +124,7 @@ def _load_or_export(
         if exported is None:
             return None
         try:
-            _store(path, exported.serialize())
+            store(path, exported.serialize())
         except (OSError, ValueError, TypeError, ImportError):
             pass  # a read-only cache or an unserializable result: the program still runs, unstored
     return jax.jit(exported.call)
@@ -164,10 +164,16 @@ def _key(name: str, statics: dict[int, Any], shapes: tuple) -> str | None:
 def _names_only_trusted(pickled: bytes) -> bool:
     """Whether every global (class or function) the pickle refers to lives in :data:`TRUSTED_MODULES`."""
     try:
-        _TrustedOnly(io.BytesIO(pickled)).load()
+        trusted_loads(pickled)
     except pickle.UnpicklingError:
         return False
     return True
+
+
+def trusted_loads(data: bytes) -> Any:
+    """``pickle.loads`` that refuses (``pickle.UnpicklingError``) any class or function outside
+    :data:`TRUSTED_MODULES`: for what mobman itself keeps on disk (:mod:`mobman.io.urdf_cache`)."""
+    return _TrustedOnly(io.BytesIO(data)).load()
 
 
 class _TrustedOnly(pickle.Unpickler):
@@ -191,18 +197,30 @@ def source_digest() -> str:
     return digest.hexdigest()
 
 
-def _store(path: Path, data: bytes | bytearray) -> None:
-    """Write ``data`` to ``path`` atomically, then keep the folder within :data:`MAX_BYTES`."""
+def store(
+    path: Path, data: bytes | bytearray, max_bytes: int = MAX_BYTES, pattern: str = "*.exported"
+) -> None:
+    """Write ``data`` to ``path`` atomically, then keep the files ``pattern`` of its folder within ``max_bytes``
+    (the least recently written removed first)."""
     with tempfile.NamedTemporaryFile(dir=path.parent, delete=False, suffix=".tmp") as f:
         f.write(data)
     os.replace(f.name, path)
-    files = sorted(path.parent.glob("*.exported"), key=lambda p: p.stat().st_mtime)
+    files = sorted(path.parent.glob(pattern), key=lambda p: p.stat().st_mtime)
     total = sum(p.stat().st_size for p in files)
     for old in files:
-        if total <= MAX_BYTES:
+        if total <= max_bytes:
             break
         total -= old.stat().st_size
         old.unlink(missing_ok=True)
 
 
-__all__ = ["MAX_BYTES", "TRUSTED_MODULES", "disable", "enable", "jit", "source_digest"]
+__all__ = [
+    "MAX_BYTES",
+    "TRUSTED_MODULES",
+    "disable",
+    "enable",
+    "jit",
+    "source_digest",
+    "store",
+    "trusted_loads",
+]

@@ -4,7 +4,8 @@ Hello Robot Stretch.
 The files come with the optional extra ``mobman[robots]``: TIAGo's from ``example-robot-data`` (Pinocchio's
 robot collection), Stretch's from ``hello-robot-stretch-urdf``. They are located through the installed
 distributions' metadata (:mod:`importlib.metadata`), read once per process by :func:`mobman.io.urdf.read_urdf`
-(wheel pair, radius, track, limits, inertials, visuals) and cached; the robots are immutable. Importing this
+(wheel pair, radius, track, limits, inertials, visuals; the command line reads it back from the disk,
+:mod:`mobman.io.urdf_cache`) and cached; the robots are immutable. Importing this
 module (done by importing :mod:`mobman.io`) registers them in :data:`mobman.model.robots.ROBOTS` under the names
 below; it reads no file and does not import yourdfpy: a robot's URDF is read when the robot is first built.
 
@@ -94,12 +95,12 @@ REAL_ROBOTS: dict[str, RealRobot] = {
 @lru_cache(maxsize=None)
 def urdf_model(name: str) -> "UrdfModel":
     """The :class:`mobman.io.urdf.UrdfModel` of a built-in real robot (robot, summary, inertials, effort limits)."""
-    from mobman.io.urdf import read_urdf
+    from mobman.io import urdf_cache
 
     if name not in REAL_ROBOTS:
         raise ModelError(f"unknown real robot {name!r}; built in: {', '.join(REAL_ROBOTS)}")
     spec = REAL_ROBOTS[name]
-    return read_urdf(spec.path(), tip=spec.tips, base=spec.base, name=name, locked=dict(spec.locked))
+    return urdf_cache.read(spec.path(), tip=spec.tips, base=spec.base, name=name, locked=dict(spec.locked))
 
 
 def tiago() -> MobileManipulator:
