@@ -23,23 +23,12 @@ def entry(results, case, strategy, gain=nc.GAIN):
     return e
 
 
-def test_robot_matches_eq8_and_eq3():
+def test_start_is_eq8_at_the_initial_configuration():
+    # §4.2.2: q_p = 0, q_a = (π/2, π/3, −π/3), L2 = 0.12, L3 = L4 = 0.35 (chosen), base (0.12, 0.12, 0.4):
+    # eq. 3 gives x_a1 = −L2 = −0.12, x_a2 = L3 c2 + L4 c3 = 0.35, x_a3 = L3 s2 + L4 s3 = 0, and eq. 8 at θ_p = 0
+    # X = (x_a2 + a, b − x_a1, x_a3 + c) = (0.47, 0.24, 0.4): the arm points forward, along the platform.
     robot = nc.manus_robot()
-    L2, L3, L4, a, b, c = 0.12, 0.35, 0.35, 0.12, 0.12, 0.4
-    rng = np.random.default_rng(1)
-    for xp, yp, th, q1, q2, q3 in rng.uniform(-2, 2, size=(5, 6)):
-        r = L4 * math.cos(q3) + L3 * math.cos(q2)
-        xa1, xa2, xa3 = (
-            r * math.cos(q1) - L2 * math.sin(q1),
-            r * math.sin(q1) + L2 * math.cos(q1),
-            L4 * math.sin(q3) + L3 * math.sin(q2),
-        )
-        x = [
-            xp + (xa2 + a) * math.cos(th) - (b - xa1) * math.sin(th),
-            yp + (xa2 + a) * math.sin(th) + (b - xa1) * math.cos(th),
-            xa3 + c,
-        ]
-        np.testing.assert_allclose(K.forward(robot, [xp, yp, th, q1, q2, q3]), x, atol=1e-14)
+    np.testing.assert_allclose(K.forward(robot, nc.initial_configuration()), [0.47, 0.24, 0.4], atol=1e-15)
 
 
 def test_initial_arm_eccentricity_from_eq27(reproduction):

@@ -53,9 +53,10 @@ Q_MANUS = configurations(MANUS.n_q)
 
 
 def _manus_rotations(q: np.ndarray) -> list[np.ndarray]:
-    """Frames after joints 1, 2, 3 and the tool: R_z(θ + q_a1) then the lift about −y by the absolute
-    elevation (q_a2 for the upper arm, q_a3 for the forearm and the tool)."""
-    heading = _rot_z(q[:, 2] + q[:, 3])
+    """Frames after joints 1, 2, 3 and the tool: R_z(θ − π/2 + q_a1) (the arm frame is turned by −π/2,
+    Nait-Chabane eq. 8) then the lift about −y by the absolute elevation (q_a2 for the upper arm, q_a3 for
+    the forearm and the tool)."""
+    heading = _rot_z(q[:, 2] - math.pi / 2 + q[:, 3])
     return [heading, heading @ _rot_y(-q[:, 4]), heading @ _rot_y(-q[:, 5]), heading @ _rot_y(-q[:, 5])]
 
 

@@ -81,13 +81,18 @@ Q_MANUS = configurations(MANUS.n_q, seed=1)
 
 
 def _manus_tool(q: np.ndarray, L2=0.12, L3=0.35, L4=0.35, a=0.12, b=0.12, c=0.4) -> np.ndarray:
-    """Nait-Chabane's Manus: base at (a, b, c) in the platform frame, q_a2 and q_a3 absolute elevations."""
+    """Nait-Chabane's Manus: base at (a, b, c) in the platform frame, its frame turned by −π/2 (eq. 8),
+    q_a2 and q_a3 absolute elevations."""
     out = []
     for x, y, theta, qa1, qa2, qa3 in q:
         local = np.array(
             [L3 * math.cos(qa2) + L4 * math.cos(qa3), L2, L3 * math.sin(qa2) + L4 * math.sin(qa3)]
         )
-        out.append(np.array([x, y, 0.0]) + _rot_z(theta) @ np.array([a, b, c]) + _rot_z(theta + qa1) @ local)
+        out.append(
+            np.array([x, y, 0.0])
+            + _rot_z(theta) @ np.array([a, b, c])
+            + _rot_z(theta - math.pi / 2 + qa1) @ local
+        )
     return np.array(out)
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -14,7 +13,6 @@ from mobman import symbolic as S
 from mobman.errors import ModelError
 from mobman.model import (
     FunctionTask,
-    Mount,
     MountPosition,
     PlanarAngle,
     Pose,
@@ -136,13 +134,6 @@ def test_bayle_rrp_consistency_relation_is_the_printed_one_with_q6_for_g6(rrp):
 # --- Nait-Chabane eq. 27–28 --------------------------------------------------------------------------
 
 
-def paper_manus(L2=0.12, L3=0.35, L4=0.35, a=0.12, b=0.12, c=0.4):
-    """The Manus platform as in Nait-Chabane eq. 8: arm frame {A} turned by −π/2 about z relative to {P}
-    (x_1 = x_p + (x_a2 + a) cos θ − (b − x_a1) sin θ, x_4 = φ + θ_p − π/2)."""
-    robot = robots.manus_platform(L2, L3, L4, a, b, c)
-    return dataclasses.replace(robot, mounts=(Mount(a, b, c, yaw=-math.pi / 2),))
-
-
 def _manus_arm_jacobian(q_a, L2, L3, L4):
     c1, c2, c3 = (cos(v) for v in q_a)
     s1, s2, s3 = (sin(v) for v in q_a)
@@ -159,14 +150,14 @@ def test_nait_chabane_eq27_arm_jacobian():
     model = S.SymbolicRobot(robots.manus_platform(a=0.0, b=0.0, c=0.0), params=("L2", "L3", "L4"))
     L2, L3, L4 = _symbols(model, ("L2", "L3", "L4"))
     x, y, theta, *q_a = model.q
-    # platform at the origin, θ = 0: the arm columns of J are J_a in the arm base frame
-    j_arm = model.jacobian()[:, 3:].subs(theta, 0)
+    # platform at the origin, θ = π/2: {A} is the world frame (eq. 8), the arm columns of J are J_a
+    j_arm = model.jacobian()[:, 3:].subs(theta, sp.pi / 2)
     assert_same(j_arm, _manus_arm_jacobian(q_a, L2, L3, L4), model.q)
 
 
 def test_nait_chabane_eq28_reduced_jacobian():
     names = ("L2", "L3", "L4", "a", "b", "c")
-    model = S.SymbolicRobot(paper_manus(), params=names, factory=paper_manus)
+    model = S.SymbolicRobot(robots.manus_platform(), params=names, factory=robots.manus_platform)
     L2, L3, L4, a, b, c = _symbols(model, names)
     x, y, th, q1, q2, q3 = model.q
     ja = _manus_arm_jacobian((q1, q2, q3), L2, L3, L4)
@@ -255,11 +246,11 @@ def test_symbolic_j_bar_matches_numerical_model(name):
 
 def test_symbolic_parameters_match_numerical_model_at_other_values():
     names = ("L2", "L3", "L4", "a", "b", "c")
-    model = S.SymbolicRobot(paper_manus(), params=names, factory=paper_manus)
+    model = S.SymbolicRobot(robots.manus_platform(), params=names, factory=robots.manus_platform)
     values = dict(L2=0.2, L3=0.45, L4=0.3, a=-0.1, b=0.05, c=0.7)
     jbar = model.reduced_jacobian().subs({model.params[k]: v for k, v in values.items()})
     fn = sp.lambdify(model.q, jbar, "numpy")
-    robot = paper_manus(**values)
+    robot = robots.manus_platform(**values)
     q = sample_configurations(robot, 5, seed=4)
     numeric = np.asarray(K.reduced_jacobian(robot, q))
     np.testing.assert_allclose(

@@ -9,14 +9,12 @@ P = w5 (``system_w5``, of the reduced Jacobian J̄) or P = w̃5 (``system_w5_nor
 R = diag(u_max), eq. 20–26).
 
 The arm frame {A} is turned by −π/2 about the vertical with respect to the platform frame (eq. 8:
-x1 = x_p + (x_a2 + a) cos θ_p − (b − x_a1) sin θ_p, …, x4 = φ + θ_p − π/2): with q_a1 = π/2 the arm points
-forward, along the platform's heading. ``robots.manus_platform`` mounts the arm unturned, so the robot here
-is that model with the mount's yaw set to −π/2.
+x1 = x_p + (x_a2 + a) cos θ_p − (b − x_a1) sin θ_p, …, x4 = φ + θ_p − π/2), as ``robots.manus_platform``
+mounts it: with q_a1 = π/2 the arm points forward, along the platform's heading.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from pathlib import Path
 
@@ -33,7 +31,7 @@ from mobman.experiments.report import Reproduction
 from mobman.io import trajectories
 from mobman.io.output import save_figure
 from mobman.model import robots
-from mobman.model.robot import MobileManipulator, Mount
+from mobman.model.robot import MobileManipulator
 
 NAME = "nait-chabane2006"
 TITLE = (
@@ -67,10 +65,8 @@ FIGURES = {(case, s): 9 + 4 * (case - 1) + i for case in CASES for i, s in enume
 
 
 def manus_robot() -> MobileManipulator:
-    """``manus_platform`` with the paper's dimensions and the arm frame turned by −π/2 (eq. 8)."""
-    a, b, c = 0.12, 0.12, 0.4
-    robot = robots.manus_platform(L2=0.12, L3=0.35, L4=0.35, a=a, b=b, c=c)
-    return dataclasses.replace(robot, mounts=(Mount(a, b, c, yaw=-math.pi / 2),))
+    """``manus_platform`` with the dimensions of §4.2.2 (arm base at (0.12, 0.12, 0.4) m, eq. 8)."""
+    return robots.manus_platform(L2=0.12, L3=0.35, L4=0.35, a=0.12, b=0.12, c=0.4)
 
 
 def initial_configuration() -> np.ndarray:
@@ -372,9 +368,9 @@ def report(entries: list[dict], dt: float) -> str:
     lines = [
         "## Settings",
         "",
-        "- Robot: `manus_platform(L2=0.12, L3=0.35, L4=0.35, a=0.12, b=0.12, c=0.4)` with the arm frame turned by "
-        "−π/2 about the vertical (eq. 8: with q_a1 = π/2 the arm points along the platform heading; the model's "
-        "default mount is unturned). L3 = L4 = 0.35 m are a choice (the paper gives no link lengths). Velocity "
+        "- Robot: `manus_platform(L2=0.12, L3=0.35, L4=0.35, a=0.12, b=0.12, c=0.4)`, its arm frame turned by "
+        "−π/2 about the vertical (eq. 8: with q_a1 = π/2 the arm points along the platform heading). "
+        "L3 = L4 = 0.35 m are a choice (the paper gives no link lengths). Velocity "
         "limits u_max = (0.33 m/s, 0.55 rad/s, π/3, π/3, π/3 rad/s) for w̃5.",
         f"- q_p = 0, q_a = (π/2, π/3, −π/3): end effector at (0.47, 0.24, 0.40) m; initial w_a5 = "
         f"{entries[0]['wa5_initial']:.3f}, w5 = {entries[0]['w5_initial']:.3f}, w̃5 = {entries[0]['w5n_initial']:.3f}.",

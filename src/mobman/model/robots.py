@@ -114,14 +114,17 @@ def bayle_rrp() -> MobileManipulator:
 def manus_platform(
     L2: float = 0.12, L3: float = 0.35, L4: float = 0.35, a: float = 0.12, b: float = 0.12, c: float = 0.4
 ) -> MobileManipulator:
-    """The three Manus positioning joints on a differential platform (Nait-Chabane eq. 3, 27–28).
+    """The three Manus positioning joints on a differential platform (Nait-Chabane eq. 3, 8, 27–28).
 
     Arm coordinates are the paper's: q_a1 about the vertical, q_a2 and q_a3 the *absolute* elevation angles
     of the upper arm and forearm (the Manus has a parallelogram linkage), modelled with a coupling matrix.
     L2 ≥ 0 is the shoulder's lateral offset (0.12 m: the paper's retracted point (0, 0.12, 0)); L3 = L4 =
     0.35 m are a choice (the paper gives none). The arm base is at (a, b, c) in the platform frame: the
-    paper's simulations state (0.12, 0.12, 0.4) m while §4.1 uses a = b = 0. Velocity limits are the
-    paper's u_max = (0.33 m/s, 0.55 rad/s, π/3, π/3, π/3 rad/s).
+    paper's simulations state (0.12, 0.12, 0.4) m while §4.1 uses a = b = 0. The arm frame {A} is turned by
+    −π/2 about the vertical with respect to the platform frame {P} (eq. 8: the tool is at
+    (a + x_a2, b − x_a1, c + x_a3) in {P}, and x4 = φ + θ_p − π/2), so the arm's x_a2 axis points along the
+    platform's heading and q_a1 = π/2 points the arm forward. Velocity limits are the paper's
+    u_max = (0.33 m/s, 0.55 rad/s, π/3, π/3, π/3 rad/s).
     """
     _check_offsets("manus_platform", L2=L2)
     _check_lengths("manus_platform", L3=L3, L4=L4)
@@ -140,7 +143,7 @@ def manus_platform(
     return MobileManipulator(
         DifferentialDrive(v_max=0.33, omega_max=0.55),
         (arm,),
-        (Mount(a, b, c),),
+        (Mount(a, b, c, yaw=-math.pi / 2),),
         task=Position("xyz"),
         name="manus-platform",
         parameters=(("L2", L2), ("L3", L3), ("L4", L4), ("a", a), ("b", b), ("c", c)),
