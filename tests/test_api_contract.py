@@ -180,15 +180,34 @@ def test_an_alpha_coordinate_out_of_range_is_an_error_never_clamped():
     assert float(CubicTransition(0.0, 1.0, coordinate=2)(np.array([0.0, 0.0, 0.5]))) == pytest.approx(0.5)
 
 
-def test_a_singular_closed_chain_is_a_singular_configuration_error():
-    from mobman.dynamics.ellipsoids import dynamic_ellipsoid
+def test_a_singular_closed_chain_gets_its_degenerate_ellipsoid_flagged():
+    """Both arms stretched: the closed chain's equations are singular (the hand forces undetermined). The
+    exact ellipsoid is then their minimum-norm solution's, flagged: each of its points a_o, for the torque τ
+    that maps to it, is an acceleration the chain can have (some u̇, h satisfy the equations: least squares
+    by SciPy, residual at rounding)."""
+    from scipy.linalg import lstsq
+
+    from mobman.dynamics.ellipsoids import dynamic_ellipsoid, dynamic_terms
     from mobman.dynamics.grasp import HeldObject
-    from mobman.errors import SingularConfigurationError
     from mobman.experiments.yamamoto1999 import torque_limits
 
-    stretched = np.zeros(9)  # both arms stretched: their Jacobians lose rank
-    with pytest.raises(SingularConfigurationError, match="closed-chain equations"):
-        dynamic_ellipsoid(MODEL, stretched, torque_limits(MODEL.robot), obj=HeldObject(2.0), method="exact")
+    stretched, obj = np.zeros(9), HeldObject(2.0)
+    limits = torque_limits(MODEL.robot)
+    e = dynamic_ellipsoid(MODEL, stretched, limits, obj=obj, method="exact")
+    assert bool(e.singular) and np.isfinite(e.matrix).all() and e.axes[0] > 0
+    t = dynamic_terms(MODEL, stretched, obj=obj)
+    n, r, m = t.p.shape[-1], t.j.shape[-2], t.w.shape[-2]
+    a = np.zeros((n + m + r, n + r))  # unknowns u̇, h for a given a_o and τ
+    a[:n, :n], a[:n, n:] = t.p, t.j.T
+    a[n : n + m, n:] = -t.w
+    a[n + m :, :n] = t.j
+    for s in np.random.default_rng(3).normal(size=(4, n)):
+        s /= np.linalg.norm(s)
+        a_o, tau = e.center + e.matrix @ s, limits * s  # a point of the boundary and its torque
+        # P u̇ + Jᵀ h = Q τ − b,  −W h = −(c_o + g_o) − M_o a_o,  J u̇ = Wᵀ a_o − drift
+        b = np.concatenate([t.q @ tau - t.b, -t.bias_o - t.m_o @ a_o, t.w.T @ a_o - t.drift])
+        x = lstsq(a, b)[0]
+        assert np.linalg.norm(a @ x - b) <= 1e-9 * np.linalg.norm(b)
 
 
 def test_a_spec_alpha_coordinate_out_of_range_names_the_field(tmp_path):

@@ -149,3 +149,18 @@ def test_a_zero_shoulder_offset_is_a_valid_geometry(capsys):
     with pytest.raises(SystemExit):
         main(["analyze", "manus-platform", "--param", "L3=0"])
     assert "L3 (a length) must be a finite number > 0" in capsys.readouterr().err
+
+
+def test_without_q_the_default_configuration_is_named_and_headings_hold_no_python_values(capsys):
+    """`mobman analyze bayle-rrp` (no --q): a note on standard error says which configuration is analysed;
+    the manipulability heading lists the measures' ranks in words, no Python dict."""
+    main(["analyze", "bayle-rrp"])
+    captured = capsys.readouterr()
+    assert "note: no --q or --q-file: analysing the default configuration" in captured.err
+    assert len(captured.err.strip().splitlines()) == 1
+    heading = next(line for line in captured.out.splitlines() if "manipulability, configuration 1" in line)
+    assert "{" not in heading and "None" not in heading
+    main(["analyze", "bayle-rrp", "--json"])
+    assert json.loads(capsys.readouterr().out)["default_configuration"] is True
+    main(["analyze", "bayle-rrp", "--q", "0,0,0,0.3,0.5,0.4"])
+    assert capsys.readouterr().err == ""

@@ -193,14 +193,26 @@ def test_rrp_arm_pointing_up_gives_a_finite_ellipsoid_and_the_flags(capsys):
     assert np.isfinite(report["axes"]).all() and np.isfinite(report["directions"]).all()
 
 
-def test_singular_closed_chain_is_one_line_naming_the_cause(capsys):
-    args = ["ellipsoid", "yamamoto-dual-arm", "--q", "0,0,0,0,0,0,0,0,0", "--kind", "dynamic", "--held"]
-    with pytest.raises(SystemExit) as exc:
-        main(args)  # both arms stretched: their Jacobians lose rank
-    assert exc.value.code == 2
-    err = capsys.readouterr().err.strip()
-    assert err.startswith("error: dynamic ellipsoid") and "singular" in err and len(err.splitlines()) == 1
-    assert np.isfinite(_json([*args[1:], "--method", "paper"], capsys)["axes"]).all()
+def test_singular_closed_chain_gets_its_degenerate_ellipsoid_flagged(capsys):
+    """Both arms stretched (q = 0): their Jacobians lose rank and the closed chain's equations are singular.
+    The command answers (exit 0) with the degenerate ellipsoid, flagged ``singular`` in JSON and by one line
+    of the table (the ellipsoid itself: tests/test_api_contract.py)."""
+    args = ["yamamoto-dual-arm", "--q", "0,0,0,0,0,0,0,0,0", "--kind", "dynamic", "--held"]
+    report = _json(args, capsys)
+    assert report["singular"] is True and np.isfinite(report["axes"]).all() and report["axes"][0] > 0
+    main(["ellipsoid", *args])
+    notes = [line for line in capsys.readouterr().out.splitlines() if line.startswith("singular")]
+    assert notes == [
+        "singular: the closed-chain equations (mass matrix, task Jacobian, grasp matrix) are singular: an "
+        "arm's Jacobian loses rank there (stretched or folded) and its hand forces are undetermined; the "
+        "ellipsoid is that of their minimum-norm solution"
+    ]
+    assert _json([*args, "--method", "paper"], capsys)["singular"] is False
+    regular = _json(
+        ["yamamoto-dual-arm", "--q", "0,0,0,0.3,0.6,0.9,-0.3,-0.6,-0.9", "--kind", "dynamic", "--held"],
+        capsys,
+    )
+    assert regular["singular"] is False
 
 
 def test_ellipsoid_outside_the_joint_limits_warns_or_fails_with_strict_limits(capsys):

@@ -30,3 +30,12 @@ def test_robots_table(capsys, monkeypatch):
     out = capsys.readouterr().out
     assert all(name in out for name in robots.ROBOTS)
     assert "also takes --param mount.x, mount.y, mount.z, mount.yaw, mount.pitch, mount.roll" in out
+
+
+def test_robots_table_at_80_columns_keeps_every_name_whole(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "80")
+    main(["robots"])
+    lines = capsys.readouterr().out.splitlines()
+    assert max(len(line) for line in lines) <= 80
+    names = {line.split("│")[1].strip() for line in lines if line.startswith("│")} - {""}
+    assert names == set(robots.ROBOTS)  # each name whole on its row's first line, none split

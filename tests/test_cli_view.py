@@ -70,6 +70,55 @@ def test_port_in_use_says_so_and_suggests_another(capsys):
     assert suggested != port
 
 
+def _time_wait_port() -> int:
+    """A loopback port whose only socket waits in TIME_WAIT, as a viewer's port does once a browser's
+    connection to it has closed: a listener bound as servers bind (SO_REUSEADDR) accepts a connection and
+    closes its end first."""
+    with socket.socket() as listener:
+        listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        listener.bind(("127.0.0.1", 0))
+        listener.listen()
+        port = listener.getsockname()[1]
+        with socket.create_connection(("127.0.0.1", port)) as client:
+            accepted, _ = listener.accept()
+            accepted.close()  # the accepting side closes first: its socket goes to TIME_WAIT
+            client.recv(1)  # the server's FIN has arrived
+    with socket.socket() as plain, pytest.raises(OSError):
+        plain.bind(("127.0.0.1", port))  # a bind without SO_REUSEADDR is refused: the port is in TIME_WAIT
+    return port
+
+
+def test_a_port_in_time_wait_is_served(monkeypatch, capsys):
+    """The port check binds as the server does (SO_REUSEADDR), so it lets the server take a port that only
+    TIME_WAIT connections hold, such as the one the previous view just served."""
+    import mobman.cli.view as view
+
+    port = _time_wait_port()
+
+    def stop(_seconds):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(view.time, "sleep", stop)
+    main(["view", "bayle-rrp", "--port", str(port)])
+    assert f"at http://127.0.0.1:{port}" in capsys.readouterr().out
+
+
+def test_two_screenshots_in_a_row_take_any_free_port(artifacts, robot_pixels, monkeypatch, capsys):
+    """Without --port a screenshot serves on a free port, not the interactive view's default, which may be
+    taken (here: held by another listener)."""
+    import mobman.cli.view as view
+
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        monkeypatch.setattr(view, "DEFAULT_PORT", busy.getsockname()[1])
+        for k in range(2):
+            png = artifacts / f"view_bayle-rrp_{k}.png"
+            main(["view", "bayle-rrp", "--q", "0.2,0.1,pi/6,pi/3,pi/4,0.6", "--screenshot", str(png)])
+            assert f"screenshot: {png}" in capsys.readouterr().out
+            assert robot_pixels(png.read_bytes()).sum() > 300
+
+
 def test_screenshot_of_a_paper_robot(artifacts, robot_pixels, capsys):
     png = artifacts / "view_bayle-rrp.png"
     main(["view", "bayle-rrp", "--q", "0.2,0.1,pi/6,pi/3,pi/4,0.6", "--port", "0", "--screenshot", str(png)])

@@ -240,7 +240,7 @@ def test_paper_ellipsoid_is_consistent_and_inside_the_exact_one(model, qs, held_
     particular torque the paper's ellipsoid lies inside the image of the whole torque ball."""
     paper = dynamic_ellipsoid(model, qs, LIMITS, obj=OBJ, method="paper")
     exact = dynamic_ellipsoid(model, qs, LIMITS, obj=OBJ, method="exact")
-    g, _ = closed_chain_matrices(held_terms)
+    g, _, _ = closed_chain_matrices(held_terms)
     lam = np.linalg.pinv(paper.matrix) * LIMITS[:, None]  # at rest ρ = 1 and K = Λ̄⁺, Λ = Z⁻¹ Λ̄
     np.testing.assert_allclose(g @ lam, np.broadcast_to(np.eye(3), (3, 3, 3)), atol=1e-8)
     s = RNG.normal(size=(200, 3))
@@ -294,7 +294,7 @@ def test_velocity_offset_mu_corrected_eq35(model, qs, moving_terms):
     that holds with μ_o = Q⁻¹(−ξ + P J⁺(Ẇᵀv_o − J̇u) + JᵀW⁺(c_o + g_o)) and fails with the printed +Q⁻¹ξ. The
     ellipsoid's centre is −Λ̄⁺μ̄ (eq. 38)."""
     eta, t = ETA, moving_terms
-    g, g0 = closed_chain_matrices(t)
+    g, g0, _ = closed_chain_matrices(t)
     j_plus, w_plus = np.linalg.pinv(t.j), np.linalg.pinv(t.w)
     jt = np.swapaxes(t.j, -1, -2)
     lam = np.linalg.solve(t.q, t.p @ j_plus @ np.swapaxes(t.w, -1, -2) + jt @ w_plus @ t.m_o)

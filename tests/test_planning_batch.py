@@ -1,6 +1,7 @@
-"""mobman.planning.batch: a batch of problems solved in one call gives each problem's single solve (final z,
-status, iterations, error history), unbatched arguments broadcast, one problem read back as a PlanResult, and
-the batch's shape errors."""
+"""mobman.planning.batch: a batch of problems gives each problem's single solve (final z, status, iterations,
+error history), converged or not, also when the problems still running are gathered into fewer blocks round
+after round; unbatched arguments broadcast, one problem read back as a PlanResult, and the batch's shape
+errors."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import pytest
 
 from mobman import InputError
 from mobman.experiments import tchon2002
+from mobman.planning import batch as batch_module
 from mobman.planning.algorithms import plan
 from mobman.planning.batch import plan_batch
 
@@ -23,19 +25,48 @@ def problems():
     return z0, targets, tchon2002.options("pinv", 1.0, tchon2002.QUICK_CAP)
 
 
-def test_each_problem_of_a_batch_is_its_single_solve(setting, problems):
-    z0, targets, options = problems
-    batch = plan_batch(setting, z0, Q0, targets, options)
-    assert batch.z.shape == (3, setting.n_z) and batch.success_rate == 1.0
-    for k in range(3):
-        single = plan(setting, z0, Q0[k], targets[k], options)
+def _assert_single_solves(setting, batch, z0, q0, targets, options):
+    """Each problem of ``batch`` is its one-at-a-time solve: status, iterations, z, error history."""
+    for k in range(len(batch.status)):
+        single = plan(setting, z0, q0[k], targets[k], options)
         assert batch.status[k] == single.status and int(batch.iterations[k]) == single.iterations
         np.testing.assert_allclose(batch.z[k], single.z, rtol=0, atol=1e-12)
         run = batch.run(setting, k)
         np.testing.assert_allclose(np.concatenate([run.lam, run.x]), single.z, rtol=0, atol=1e-12)
         # the error histories agree to the rounding of z (vmap orders some sums differently)
         np.testing.assert_allclose(run.errors, single.errors, rtol=1e-9, atol=1e-12)
-        assert batch.final_errors[k] == run.errors[-1] <= tchon2002.TOL
+        assert batch.final_errors[k] == run.errors[-1]
+
+
+def test_each_problem_of_a_batch_is_its_single_solve(setting, problems):
+    z0, targets, options = problems
+    batch = plan_batch(setting, z0, Q0, targets, options)
+    assert batch.z.shape == (3, setting.n_z) and batch.success_rate == 1.0
+    assert np.all(batch.final_errors <= tchon2002.TOL)
+    _assert_single_solves(setting, batch, z0, Q0, targets, options)
+
+
+def test_problems_that_do_not_converge_are_their_single_solves(setting, problems):
+    """The adjoint with Δθ = 0.1 stops at the cap on every start (tests/test_experiments_tchon2002.py): the
+    batch reports each run's cap, final error and history, as one-at-a-time solves do."""
+    z0, targets, _ = problems
+    options = tchon2002.options("adjoint", 0.1, tchon2002.QUICK_CAP)
+    batch = plan_batch(setting, z0, Q0, targets, options)
+    assert batch.status == ["max_iterations"] * 3 and np.all(batch.iterations == tchon2002.QUICK_CAP)
+    assert np.all(batch.final_errors > 1e-3)
+    _assert_single_solves(setting, batch, z0, Q0, targets, options)
+
+
+def test_running_problems_are_gathered_into_full_blocks(setting, problems, monkeypatch):
+    """Five problems in blocks of two: three blocks, then fewer as problems converge at different iterations
+    (the last block padded with repeats of its problems); each result is still its single solve."""
+    z0, targets, options = problems
+    monkeypatch.setattr(batch_module, "BLOCK", 2)
+    q0 = np.concatenate([Q0, Q0[:2]])
+    more = np.concatenate([targets, targets[1:] + np.array([0.0, 0.0, 0.1])])
+    batch = plan_batch(setting, z0, q0, more, options)
+    assert batch.success_rate == 1.0 and len(set(batch.iterations.tolist())) > 1
+    _assert_single_solves(setting, batch, z0, q0, more, options)
 
 
 def test_unbatched_arguments_broadcast(setting, problems):

@@ -197,6 +197,13 @@ def analyze_command(
     field = "--q-file" if q_file is not None else "--q"
     outside = outside_limits(robot, configurations, field, strict_limits)
     result = analysis(robot, configurations, outside)
+    if q is None and q_file is None:
+        result["default_configuration"] = True
+        typer.echo(
+            "note: no --q or --q-file: analysing the default configuration (platform at the origin, arm joint k "
+            "at 0.5·k rad or m, clipped to its limits)",
+            err=True,
+        )
     sym = symbolic_analysis(robot) if symbolic else None
     if json_output:
         if sym is not None:
@@ -250,9 +257,13 @@ def _print(result: dict, sym: dict | None) -> None:
         )
         console.print(table)
         man = r["manipulability"]
-        ranks = man["measure_rank"]
+        ranks = ", ".join(
+            f"{level} {rank}" for level, rank in man["measure_rank"].items() if rank is not None
+        )
         note = "restricted to the admissible subspace" if man["restricted"] else "plain"
-        mtable = Table(title=f"manipulability, configuration {i} ({note}; ranks {ranks})")
+        mtable = Table(
+            title=f"manipulability, configuration {i} ({note}{'; ranks ' + ranks if ranks else ''})"
+        )
         for column in ("Jacobian", "w (yoshikawa)", "w2 (inverse condition)", "w5 (eccentricity)"):
             mtable.add_column(column, justify="right")
         for level, label in zip(LEVELS, ("arm J_a", "system J̄", "normalised J̄_N")):

@@ -28,6 +28,7 @@ from mobman.cli.app import app
 from mobman.cli.common import UrdfOption, load_dynamics, load_robot, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.dynamics.ellipsoids import (
+    CLOSED_CHAIN_SINGULAR,
     GRASPS,
     Ellipsoid,
     Method,
@@ -53,6 +54,7 @@ def ellipsoid_report(e: Ellipsoid) -> dict:
         "center": e.center,
         "volume": float(e.volume),
         "feasible": bool(e.feasible),
+        "singular": bool(e.singular),
     }
 
 
@@ -166,5 +168,7 @@ def _print(result: dict) -> None:
     console.print(table)
     console.print("centre: " + ", ".join(f"{v:.6g}" for v in result["center"]))
     console.print(f"volume: {result['volume']:.6g}" + ("" if result["feasible"] else " (empty: infeasible)"))
+    if result["singular"]:
+        console.print(f"singular: {CLOSED_CHAIN_SINGULAR}", soft_wrap=True)  # one line, whatever the width
     console.print(f"representation singular: {result['representation_singular']}")
     console.print("outside joint limits: " + (", ".join(result["outside_limits"]) or "no"))

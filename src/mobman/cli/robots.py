@@ -52,7 +52,8 @@ def robots_command(json_output: bool = typer.Option(False, "--json", help="Print
         caption=f"every robot, built in or a .toml or .urdf file, also takes --param {', '.join(MOUNT)}: "
         "the mount of its arm (--arm where a command has it) in the platform frame, m and rad",
     )
-    for column in ("name", "parameters", "coordinates q", "task ξ", "summary"):
+    table.add_column("name", no_wrap=True)  # a name is what the user types: never split
+    for column in ("parameters", "coordinates q", "task ξ", "summary"):
         table.add_column(column, overflow="fold")
     for e in entries:
         params = ", ".join(f"{k}={v}" for k, v in e["parameters"].items()) or "—"

@@ -21,6 +21,9 @@ from mobman.cli.common import (
 )
 from mobman.errors import InputError
 
+DEFAULT_PORT = 8080
+"""Where an interactive view is served unless --port says otherwise (a screenshot takes any free port)."""
+
 
 def _is_results(name: str) -> bool:
     path = Path(name)
@@ -37,7 +40,11 @@ def view_command(
         None, "--results", help="Results folder or JSON file with a motion (simulate/plan --out, reproduce)."
     ),
     motion: str | None = typer.Option(None, "--motion", help="Label of the motion to show first."),
-    port: int = typer.Option(8080, "--port", help="Port to serve on (0: any free port)."),
+    port: int | None = typer.Option(
+        None,
+        "--port",
+        help=f"Port to serve on (0: any free port); default {DEFAULT_PORT}, and any free port for --screenshot.",
+    ),
     host: str = typer.Option("127.0.0.1", "--host", help="Address to bind (loopback by default)."),
     normalized: bool = typer.Option(
         False, "--normalized", help="Ellipsoid of J̄ · diag(η_max) (needs velocity limits)."
@@ -61,6 +68,7 @@ def view_command(
     platform: str | None = UrdfOption.platform,
     wheels: str | None = UrdfOption.wheels,
     lock: list[str] | None = UrdfOption.lock,
+    platform_option: list[str] | None = UrdfOption.platform_option,
 ) -> None:
     """Serve a 3D view of a robot, a configuration or a run's motions in the browser."""
     from mobman.io import trajectories
@@ -72,10 +80,12 @@ def view_command(
             f"mobman view needs the viewer extra ({exc.name} is missing): pip install 'mobman[viewer]'"
         ) from None
 
+    if port is None:
+        port = 0 if screenshot_path is not None else DEFAULT_PORT
     if not 0 <= port <= 65535:
         raise InputError(f"--port must be in 0..65535, got {port}")
     results_as_robot = False
-    urdf = urdf_options(tip, base, platform, wheels, lock)
+    urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
     if _is_results(robot_name):
         if results is not None:
             raise InputError("give the results either as ROBOT or with --results, not both")
@@ -84,7 +94,7 @@ def view_command(
         refuse_urdf_options(urdf, "a results folder (its robot is rebuilt from the results)")
         robot = robot_of(trajectories.read(results)[0])
     else:
-        robot = load_robot(robot_name, params, urdf)
+        robot = load_robot(robot_name, params, urdf, drawn=True)
     configuration = None if q is None else parse_vector(q, "--q", robot.n_q)
     if results is not None:
         motions_of(robot, results)  # a results file of another robot: said before serving anything

@@ -74,13 +74,16 @@ class Ellipsoid:
     """E = {center + matrix · s : |s| ≤ 1}, batched over leading dimensions.
 
     center (..., m); matrix (..., m, k); names: the m task coordinates; feasible (...): False where the set is
-    empty (a dynamic ellipsoid whose offset μ̄ alone exceeds the torque limits).
+    empty (a dynamic ellipsoid whose offset μ̄ alone exceeds the torque limits); singular (...): True where the
+    equations that define it are singular and it is their minimum-norm (degenerate) answer
+    (:func:`closed_chain_matrices`).
     """
 
     center: np.ndarray
     matrix: np.ndarray
     names: tuple[str, ...]
     feasible: np.ndarray
+    singular: np.ndarray | bool = False
 
     def __post_init__(self) -> None:
         for name in ("center", "matrix"):
@@ -122,6 +125,7 @@ class Ellipsoid:
             self.matrix[..., keep, :],
             tuple(self.names[i] for i in keep),
             self.feasible,
+            self.singular,
         )
 
     def section(self, keep: Sequence[int], at: Sequence[float] | None = None) -> "Ellipsoid":
@@ -441,8 +445,9 @@ def _t(a: np.ndarray) -> np.ndarray:
     return np.swapaxes(a, -1, -2)
 
 
-def _paper(terms: _Terms, tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Eq. 31–38: τ = Λ_o a_o + μ_o with u̇ = J⁺(Wᵀ a_o − drift), h = W⁺(M_o a_o + c_o + g_o)."""
+def _paper(terms: _Terms, tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Eq. 31–38: τ = Λ_o a_o + μ_o with u̇ = J⁺(Wᵀ a_o − drift), h = W⁺(M_o a_o + c_o + g_o) (pseudo-inverses:
+    never flagged singular)."""
     j_plus, w_plus = np.linalg.pinv(terms.j), np.linalg.pinv(terms.w)
     lam = _solve(
         terms.q,
@@ -458,12 +463,24 @@ def _paper(terms: _Terms, tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray, 
     outside = mu_bar - _mv(lam_bar @ lam_pinv, mu_bar)
     rho2 = 1.0 - np.sum(outside**2, axis=-1)
     matrix = np.sqrt(np.clip(rho2, 0.0, None))[..., None, None] * lam_pinv
-    return -_mv(lam_pinv, mu_bar), matrix, rho2 >= 0.0
+    return -_mv(lam_pinv, mu_bar), matrix, rho2 >= 0.0, np.zeros(rho2.shape, dtype=bool)
 
 
-def closed_chain_matrices(terms: _Terms) -> tuple[np.ndarray, np.ndarray]:
+CLOSED_CHAIN_SINGULAR = (
+    "the closed-chain equations (mass matrix, task Jacobian, grasp matrix) are singular: an arm's Jacobian "
+    "loses rank there (stretched or folded) and its hand forces are undetermined; the ellipsoid is that of their "
+    "minimum-norm solution"
+)
+"""What a dynamic ellipsoid flagged ``singular`` is (:func:`closed_chain_matrices`)."""
+
+
+def closed_chain_matrices(terms: _Terms) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Forward map of the closed chain: a_o = G τ + g₀, from P u̇ + Jᵀ h = Q τ − b, M_o a_o − W h = −(c_o + g_o),
-    J u̇ − Wᵀ a_o = −drift (unknowns u̇, h, a_o). Returns (G, g₀)."""
+    J u̇ − Wᵀ a_o = −drift (unknowns u̇, h, a_o). Returns (G, g₀, singular).
+
+    Where the system is singular (an arm stretched or folded: its hand forces are undetermined) G and g₀ come
+    from its minimum-norm least-squares solution (the pseudo-inverse), and ``singular`` (...) is True there:
+    a valid configuration gets its degenerate answer, flagged, instead of a refusal."""
     n, r, m = terms.p.shape[-1], terms.j.shape[-2], terms.w.shape[-2]
     batch = terms.p.shape[:-2]
     a = np.zeros(batch + (n + r + m,) * 2)
@@ -473,20 +490,22 @@ def closed_chain_matrices(terms: _Terms) -> tuple[np.ndarray, np.ndarray]:
     rhs = np.zeros(batch + (n + r + m, n + 1))
     rhs[..., :n, :n] = terms.q
     rhs[..., :, n] = np.concatenate([-terms.b, -terms.bias_o, -terms.drift], axis=-1)
-    what = (
-        "dynamic ellipsoid: the closed-chain equations (mass matrix, task Jacobian, grasp matrix) are singular: an arm's Jacobian "
-        "loses rank there (stretched or folded), its hand forces are undetermined; method 'paper' uses "
-        "pseudo-inverses"
-    )
-    sol = _solve(a, rhs, what)[..., -m:, :]
-    return sol[..., :n], sol[..., n]
+    if not (np.isfinite(a).all() and np.isfinite(rhs).all()):
+        raise SingularConfigurationError("dynamic ellipsoid: the closed-chain equations are not finite")
+    size = n + r + m
+    singular = np.asarray(np.linalg.cond(a) > 1 / (size * np.finfo(float).eps))
+    flag = singular[..., None, None]
+    regular = np.linalg.solve(np.where(flag, np.eye(size), a), rhs)  # the identity where singular
+    sol = np.where(flag, np.linalg.pinv(a) @ rhs, regular)[..., -m:, :]
+    return sol[..., :n], sol[..., n], singular
 
 
-def _exact(terms: _Terms, tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The image of the torque ball |Z τ| ≤ 1 through the closed-chain forward map."""
-    g, g0 = closed_chain_matrices(terms)
+def _exact(terms: _Terms, tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The image of the torque ball |Z τ| ≤ 1 through the closed-chain forward map (and where it is singular)."""
+    g, g0, singular = closed_chain_matrices(terms)
     matrix = g * tau_max[..., None, :]
-    return np.broadcast_to(g0, matrix.shape[:-1]), matrix, np.ones(matrix.shape[:-2], dtype=bool)
+    feasible = np.ones(matrix.shape[:-2], dtype=bool)
+    return np.broadcast_to(g0, matrix.shape[:-1]), matrix, feasible, np.broadcast_to(singular, feasible.shape)
 
 
 def dynamic_terms(
@@ -589,10 +608,10 @@ def dynamic_ellipsoid(
     tau_max = limits * np.where(is_platform, scale[..., None], 1.0)
     if platform_fixed:
         tau_max = tau_max[..., ~is_platform]
-    center, matrix, feasible = (_paper if method == "paper" else _exact)(terms, tau_max)
+    center, matrix, feasible, singular = (_paper if method == "paper" else _exact)(terms, tau_max)
     names: tuple[str, ...]
     if obj is not None:
         names = POINT_NAMES if grasp == "point" else OBJECT_NAMES
     else:
         names = (robot.task if task is None else task).names
-    return Ellipsoid(center, matrix, names, feasible)
+    return Ellipsoid(center, matrix, names, feasible, singular)

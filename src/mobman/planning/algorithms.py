@@ -198,11 +198,15 @@ def _line_search(setting, z, q0, y_d, e, J, d):
     return alpha, v <= v0 + ARMIJO * alpha * slope
 
 
-@partial(jax.jit, static_argnums=(0, 1))
-def solve_loop(
+def initial_state(kernel: Kernel, z0: jax.Array) -> Plan:
+    """The loop's state before the first iteration: z0, running, no update made, empty histories (θ = 0)."""
+    nan = jnp.full(kernel.max_iterations + 1, jnp.nan)
+    return Plan(z0, jnp.asarray(RUNNING), jnp.asarray(0), nan, nan.at[0].set(0.0))
+
+
+def iteration(
     setting: PlanningSetting,
     kernel: Kernel,
-    z0: jax.Array,
     q0: jax.Array,
     y_d: jax.Array,
     algorithm: jax.Array,
@@ -210,15 +214,12 @@ def solve_loop(
     step: jax.Array,
     gamma: jax.Array,
     tol: jax.Array,
-) -> Plan:
-    """The compiled loop (see :meth:`Options.arguments` for the traced arguments)."""
-    size = kernel.max_iterations + 1
-    nan = jnp.full(size, jnp.nan)
+) -> Callable[[Plan], Plan]:
+    """One iteration of the loop as a function of its state: records ‖e‖ at z, sets the status (converged,
+    cap reached, singular Gram matrix, failed line search, non-finite error) and, while running, moves z by
+    Δθ·γ·direction."""
 
-    def cond(state):
-        return state[1] == RUNNING
-
-    def body(state):
+    def body(state: Plan) -> Plan:
         z, _, k, errors, thetas = state
         e, J, d, rcond = _direction(setting, kernel, algorithm, z, q0, y_d)
         err = jnp.linalg.norm(e)
@@ -244,11 +245,28 @@ def solve_loop(
         running = status == RUNNING
         z = jnp.where(running, z + dtheta * gamma * d, z)
         thetas = thetas.at[k + 1].set(jnp.where(running, thetas[k] + dtheta, jnp.nan))
-        return z, status, k + running.astype(k.dtype), errors, thetas
+        return Plan(z, status, k + running.astype(k.dtype), errors, thetas)
 
-    start = (z0, jnp.asarray(RUNNING), jnp.asarray(0), nan, nan.at[0].set(0.0))
-    z, status, k, errors, thetas = jax.lax.while_loop(cond, body, start)
-    return Plan(z, status, k, errors, thetas)
+    return body
+
+
+@partial(jax.jit, static_argnums=(0, 1))
+def solve_loop(
+    setting: PlanningSetting,
+    kernel: Kernel,
+    z0: jax.Array,
+    q0: jax.Array,
+    y_d: jax.Array,
+    algorithm: jax.Array,
+    adaptive: jax.Array,
+    step: jax.Array,
+    gamma: jax.Array,
+    tol: jax.Array,
+) -> Plan:
+    """The compiled loop: :func:`iteration` until the status is no longer running (see
+    :meth:`Options.arguments` for the traced arguments)."""
+    body = iteration(setting, kernel, q0, y_d, algorithm, adaptive, step, gamma, tol)
+    return jax.lax.while_loop(lambda state: state.status == RUNNING, body, initial_state(kernel, z0))
 
 
 def solve(

@@ -1,7 +1,15 @@
-"""Many planning problems at once: ``jax.vmap`` of the compiled planner over starts, targets and initial z."""
+"""Many planning problems at once (Tchoń et al. 2002 §3 for each): blocks of problems advanced together.
+
+A ``vmap`` of the whole ``while_loop`` would compute every problem until the slowest one stops (at the cap,
+while most converge in a few iterations). Here a compiled call makes one :func:`iteration` of a block of
+:data:`BLOCK` problems (``vmap`` over problems); after each round the problems still running are gathered into
+full blocks again, and a round's blocks run on the cores. Each problem goes through the same iterations as
+:func:`mobman.planning.algorithms.plan`, so its status, iterations, z and error history are the same."""
 
 from __future__ import annotations
 
+import functools
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import partial
 
@@ -10,8 +18,18 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
+from mobman.engine.batched import WORKERS
 from mobman.errors import InputError
-from mobman.planning.algorithms import STATUS, Options, PlanResult, check_sizes, solve_loop
+from mobman.planning.algorithms import (
+    RUNNING,
+    STATUS,
+    Options,
+    Plan,
+    PlanResult,
+    check_sizes,
+    initial_state,
+    iteration,
+)
 from mobman.planning.endpoint import PlanningSetting
 
 
@@ -49,11 +67,23 @@ class BatchResult:
         )
 
 
+BLOCK = 8
+"""Problems one compiled call advances together (fewer when the batch is smaller): vectorised over 4 to 32
+problems, an iteration costs about half its one-problem time per problem on the CPU; wider blocks outgrow
+the caches (benchmarks/planning.py)."""
+
+
 @partial(jax.jit, static_argnums=(0, 1))
-def _solve_batch(setting, kernel, z0, q0, y_d, *arguments):
-    """vmap over problems only: the algorithm and the step mode stay unbatched, so their branches are real
-    ``lax.switch``/``lax.cond`` (only the chosen one runs)."""
-    return jax.vmap(lambda z, q, y: solve_loop(setting, kernel, z, q, y, *arguments))(z0, q0, y_d)
+def _advance(setting, kernel, state, q0, y_d, *arguments):
+    """One iteration of each problem of a block (vmap over problems only: the algorithm and the step mode
+    stay unbatched, so their branches are real ``lax.switch``/``lax.cond``)."""
+    return jax.vmap(lambda s, q, y: iteration(setting, kernel, q, y, *arguments)(s))(state, q0, y_d)
+
+
+@functools.cache
+def _pool() -> ThreadPoolExecutor:
+    """The threads that run a round's blocks, one per core (XLA releases the GIL while it computes)."""
+    return ThreadPoolExecutor(WORKERS, thread_name_prefix="mobman-plan-batch")
 
 
 def plan_batch(
@@ -64,7 +94,8 @@ def plan_batch(
     options: Options = Options(),
 ) -> BatchResult:
     """Solve K_{q0,T}(z) = y_d for a batch: z0 (B, n_z), q0 (B, n_p), y_d (B, r), or any of them unbatched
-    (broadcast). One compiled, vectorised call; the loop runs until every problem has stopped."""
+    (broadcast). Rounds of one iteration of every problem still running, in blocks (module docstring), until
+    every problem has stopped."""
     names = ("z0", "q0", "y_d")
     arrays = z0, q0, y_d = check_sizes(setting, z0, q0, y_d)
     sizes = {a.shape[0] for a in arrays if a.ndim == 2}
@@ -77,12 +108,26 @@ def plan_batch(
         raise InputError(f"plan_batch: batch sizes of z0, q0, y_d differ: {[a.shape for a in arrays]}")
     size = max(sizes, default=1)
     z0, q0, y_d = (np.broadcast_to(a, (size, a.shape[-1])) for a in (z0, q0, y_d))
-    out = _solve_batch(
-        setting, options.kernel, jnp.asarray(z0), jnp.asarray(q0), jnp.asarray(y_d), *options.arguments()
-    )
-    iterations = np.asarray(out.iterations)
-    errors = np.asarray(out.errors)
+    kernel, arguments = options.kernel, options.arguments()
+    first = initial_state(kernel, jnp.zeros(setting.n_z))
+    # the state of every problem (the fields of Plan: z, status, iterations, errors, thetas), in NumPy
+    state = [z0.copy(), *(np.array(np.broadcast_to(np.asarray(a), (size,) + a.shape)) for a in first[1:])]
+    block = min(BLOCK, size)
+
+    def advance(lanes: np.ndarray) -> list[np.ndarray]:
+        padded = np.resize(lanes, block)  # a short last block repeats its problems
+        block_state = Plan(*(jnp.asarray(a[padded]) for a in state))
+        out = _advance(setting, kernel, block_state, q0[padded], y_d[padded], *arguments)
+        return [np.asarray(b)[: lanes.size] for b in out]
+
+    running = np.arange(size)
+    while running.size:
+        blocks = [running[i : i + block] for i in range(0, running.size, block)]
+        outs = list(_pool().map(advance, blocks)) if len(blocks) > 1 else [advance(blocks[0])]
+        for lanes, out in zip(blocks, outs):
+            for a, b in zip(state, out):
+                a[lanes] = b
+        running = running[state[1][running] == RUNNING]
+    z, status, iterations, errors, _ = state
     final = errors[np.arange(size), iterations]
-    return BatchResult(
-        np.asarray(out.z), [STATUS[int(s)] for s in np.asarray(out.status)], iterations, final, errors
-    )
+    return BatchResult(z, [STATUS[int(s)] for s in status], iterations, final, errors)

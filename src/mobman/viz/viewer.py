@@ -26,7 +26,9 @@ from __future__ import annotations
 
 import importlib
 import itertools
+import os
 import socket
+import sys
 import threading
 import time
 from dataclasses import dataclass
@@ -252,10 +254,18 @@ def _label(robot: MobileManipulator) -> str:
     return f"{robot.name} ({params})" if params else robot.name
 
 
+SERVER_REUSES_ADDRESS = os.name == "posix" and sys.platform != "cygwin"
+"""Whether the viewer's server binds with SO_REUSEADDR (asyncio's ``create_server`` default): it may then
+serve a port whose earlier connections wait in TIME_WAIT, such as one a previous viewer just closed."""
+
+
 def _check_port_free(host: str, port: int) -> None:
+    """InputError naming ``--port`` if the server could not bind ``port`` (binding as the server does)."""
     if port == 0:
         return
     with socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_STREAM) as s:
+        if SERVER_REUSES_ADDRESS:
+            s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         try:
             s.bind((host, port))
         except OSError:
