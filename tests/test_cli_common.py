@@ -434,3 +434,12 @@ def test_read_configurations_of_a_missing_or_binary_file(tmp_path, robot):
     with pytest.raises(InputError) as info:
         common.read_configurations(binary, robot)
     _one_line(info, "--q-file", "binary")
+
+
+def test_array_text_never_switches_to_e_notation():
+    from mobman.cli.common import array_text
+
+    text = array_text([1.234e-7, -0.5, 1.0, 12345.678901], 3)
+    assert "e" not in text
+    assert text.split() == ["[", "0.", "-0.5", "1.", "12345.679]"]
+    assert "e" not in array_text([[1e-12, 2.5e4], [3.0, -1e-9]])

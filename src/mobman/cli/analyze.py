@@ -19,7 +19,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 import typer
 from rich.console import Console
 from rich.table import Table
@@ -28,7 +27,7 @@ from mobman import kinematics as K
 from mobman import manipulability as mp
 from mobman import redundancy
 from mobman.cli.app import app
-from mobman.cli.common import UrdfOption, load_robot, read_configurations, urdf_options
+from mobman.cli.common import UrdfOption, array_text, load_robot, read_configurations, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json
@@ -213,12 +212,6 @@ def analyze_command(
     _print(result, sym)
 
 
-def _fmt(values: npt.ArrayLike, digits: int = 4) -> str:
-    return np.array2string(
-        np.asarray(values, dtype=float), precision=digits, suppress_small=True, max_line_width=120
-    )
-
-
 def _print(result: dict, sym: dict | None) -> None:
     console = Console()
     head = Table(title=f"{result['robot']}", show_header=False)
@@ -235,11 +228,11 @@ def _print(result: dict, sym: dict | None) -> None:
     console.print(red)
     for i, r in enumerate(result["results"], start=1):
         table = Table(title=f"configuration {i}", show_header=False)
-        table.add_row("q", _fmt(r["q"]))
+        table.add_row("q", array_text(r["q"]))
         table.add_row("outside joint limits", ", ".join(r["outside_limits"]) or "no")
-        table.add_row("ξ", _fmt(r["xi"]))
-        table.add_row("J", _fmt(r["J"]))
-        table.add_row("J̄", _fmt(r["J_bar"]))
+        table.add_row("ξ", array_text(r["xi"]))
+        table.add_row("J", array_text(r["J"]))
+        table.add_row("J̄", array_text(r["J_bar"]))
         table.add_row("representation singular", str(r["representation_singular"]))
         if r["rank_J"] is None:
             table.add_row(
@@ -248,7 +241,7 @@ def _print(result: dict, sym: dict | None) -> None:
             console.print(table)
             continue
         table.add_row("rank J, rank J̄", f"{r['rank_J']}, {r['rank_J_bar']}")
-        table.add_row("singular values of J̄", _fmt(r["singular_values"], 6))
+        table.add_row("singular values of J̄", array_text(r["singular_values"], 6))
         table.add_row(
             "kinematic singular (order)", f"{r['kinematic_singular']} ({r['kinematic_singularity_order']})"
         )

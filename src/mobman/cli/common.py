@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
@@ -433,3 +434,11 @@ def _is_header(row: list[str]) -> bool:
             continue
         return False
     return True
+
+
+def array_text(values: npt.ArrayLike, digits: int = 4) -> str:
+    """``values`` for a table: fixed-point notation with ``digits`` decimals, never e-notation (a value below
+    the last decimal prints as 0), lines of at most 120 characters."""
+    return np.array2string(
+        np.asarray(values, dtype=float), precision=digits, suppress_small=True, max_line_width=120
+    )

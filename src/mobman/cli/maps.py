@@ -22,6 +22,7 @@ from mobman.cli.app import app
 from mobman.cli.common import (
     StudyOption,
     UrdfOption,
+    array_text,
     load_robot,
     not_reached,
     progress_bar,
@@ -185,8 +186,8 @@ def _print(report: dict, robot_name: str) -> None:
     console.print(table)
     best = report["best"]
     if best is not None:
-        centre = np.array2string(np.asarray(best["centre"]), precision=3)
-        posture = np.array2string(np.asarray(best["q"]), precision=3)
+        centre = array_text(best["centre"], 3)
+        posture = array_text(best["q"], 3)
         console.print(f"best cell {centre}: {report['measure']} {best['score']:.4g} at q (arm) {posture}")
     if report["store"] is not None:
         console.print(f"store: {report['store']}")
