@@ -400,7 +400,7 @@ def _inertial_parts(
 
 
 def _color(visual: Any, materials: dict) -> tuple[float, float, float, float]:
-    material = visual.material
+    material = getattr(visual, "material", None)  # a <collision> has none
     if material is not None and material.color is None and material.name in materials:
         material = materials[material.name]
     if material is None or material.color is None:
@@ -417,15 +417,16 @@ def _visuals(
     directory: str,
     materials: dict,
     missing: list,
+    element: str = "visuals",
 ) -> tuple:
-    """The visual shapes of ``links`` in the frame of pose ``frame``; meshes not found are left out and
-    their file names added to ``missing``."""
+    """The visual shapes of ``links`` in the frame of pose ``frame`` (``element="collisions"``: their collision
+    shapes); meshes not found are left out and their file names added to ``missing``."""
     from yourdfpy import filename_handler_magic
 
     inv = np.linalg.inv(frame)
     shapes = []
     for name in links:
-        for visual in tree.links[name].visuals:
+        for visual in getattr(tree.links[name], element):
             g = visual.geometry
             if g is None:
                 continue
@@ -1039,6 +1040,35 @@ def load_urdf(
 def inspect_urdf(path: str | os.PathLike[str], **options: Any) -> UrdfSummary:
     """What :func:`read_urdf` keeps and leaves out of a URDF file (chains, wheels, passive joints)."""
     return read_urdf(path, **options).summary
+
+
+def collision_shapes(model: UrdfModel) -> dict[tuple[int, int], tuple[Visual, ...]]:
+    """The ``<collision>`` shapes of a robot read by :func:`read_urdf`, per body ((−1, 0) the platform, (arm,
+    joint index) a link, as :mod:`mobman.model.collision_model` numbers them), each in its body's frame (the
+    frames its visuals are in): what :meth:`mobman.model.collision_model.CollisionModel.from_shapes` covers
+    with spheres. Links off the chains go with the body they hang from; meshes not found are left out."""
+    summary, robot = model.summary, model.robot
+    urdf, file = _parse(summary.path)
+    tree = _Tree.of(urdf.robot)
+    held = dict(summary.locked) | {joint: value for joint, _, value in summary.mimics}
+    poses = _poses(tree, held)
+    starts = {
+        tree.joints[name].child: (i, k)
+        for i, chain in enumerate(summary.chains)
+        for k, name in enumerate(chain)
+    }
+    rotations, origins = robot.frames(np.zeros(robot.n_q)).links[0]  # the platform at the world's origin
+    first = spatial.as_matrix(spatial.transform(np.asarray(rotations[0]), tuple(np.asarray(origins[0]))))
+    frames: dict[tuple[int, int] | None, np.ndarray] = {
+        None: poses[tree.joints[summary.chains[0][0]].child] @ np.linalg.inv(first)
+    }
+    frames |= {body: poses[child] for child, body in starts.items()}
+    shapes: dict[tuple[int, int], tuple[Visual, ...]] = {}
+    for link, body in _groups(tree, starts).items():
+        found = _visuals(tree, [link], frames[body], poses, str(file.parent), {}, [], element="collisions")
+        key = (-1, 0) if body is None else body
+        shapes[key] = shapes.get(key, ()) + found
+    return shapes
 
 
 # --- writing ---------------------------------------------------------------------------------------
