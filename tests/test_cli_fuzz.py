@@ -145,7 +145,7 @@ def _finite(value) -> bool:
 
 def assert_contract(args: list[str], not_reached: bool = False) -> None:
     """Exit 0 with finite JSON, or exit 2 with one ``error:`` line; with ``not_reached`` also exit 3 with the
-    report (saying it did not converge) and a last ``warning:`` line."""
+    report (saying it did not reach its goal) and a last ``warning:`` line."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         try:
@@ -156,7 +156,7 @@ def assert_contract(args: list[str], not_reached: bool = False) -> None:
     if code == 0:
         assert _finite(json.loads(out.getvalue())), args
     elif code == 3 and not_reached:
-        assert json.loads(out.getvalue())["converged"] is False, args
+        assert json.loads(out.getvalue())["reached"] is False, args
         assert err.getvalue().strip().splitlines()[-1].startswith("warning: mobman "), (args, err.getvalue())
     else:
         lines = err.getvalue().strip().splitlines()
@@ -292,4 +292,4 @@ def test_spec_files(data):
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "spec.toml"
         path.write_text(toml_document(data), encoding="utf-8")
-        assert_contract(["simulate", str(path), "--json"])
+        assert_contract(["simulate", str(path), "--json"], not_reached=True)

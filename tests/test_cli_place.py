@@ -7,6 +7,7 @@ import json
 
 import numpy as np
 import pytest
+from lift_robot import HIGHEST, LOWEST, lift_file
 
 from mobman import kinematics as K
 from mobman.cli import main
@@ -59,6 +60,26 @@ def test_no_base_reaching_the_target_exits_3_with_the_candidates_reported(capsys
     assert len(lines) == 1 and lines[0].startswith(
         "warning: mobman place: no base of the 9 reaches the target"
     )
+
+
+@pytest.mark.parametrize(
+    "target, radii, why",
+    [
+        # the lift robot (tests/lift_robot.py): the tool at the heights 0.5 to 1.1 m, 0.5 m from the lift
+        ("1,0.5,1.5", "0.4,0.7", f"the target's height 1.5 m is {1.5 - HIGHEST:.3g} m above the highest point "
+         f"the tool reaches ({HIGHEST:.4g} m, with any posture within the joint limits)"),
+        ("1,0.5,0.2", "0.4,0.7", f"the target's height 0.2 m is {LOWEST - 0.2:.3g} m below the lowest point "
+         f"the tool reaches ({LOWEST:.4g} m, with any posture within the joint limits)"),
+        ("1,0.5,0.8", "3,4", "every base lies 3 m or more from the target, farther than the arm reaches ("),
+    ],
+)  # fmt: skip
+def test_a_target_beyond_the_robot_s_reach_is_said_with_its_numbers(tmp_path, capsys, target, radii, why):
+    args = ["place", str(lift_file(tmp_path)), "--target", target, "--radii", radii, "--bearings", "2"]
+    code, out, err = _run([*args, "--headings", "4", "--starts", "2", "--json"], capsys)
+    (line,) = err.strip().splitlines()
+    assert code == 3 and json.loads(out)["reached"] == 0
+    assert line.startswith("warning: mobman place: no base of the 16 reaches the target (closest error ")
+    assert f"): {why}" in line and "try" not in line
 
 
 def test_targets_repeated_are_reached_from_one_base(capsys):

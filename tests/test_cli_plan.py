@@ -101,26 +101,30 @@ def test_bad_extension_is_one_line_and_exit_2(extension, needle, capsys):
     assert len(lines) == 1 and "--extension" in lines[0] and needle in lines[0]
 
 
-def test_joint_limits_of_the_start_and_of_the_planned_arm_joints(capsys):
+def test_joint_limits_of_the_start_and_of_the_planned_arm_joints(tmp_path, cli_run):
     """bayle-rrp's prismatic q6 ≥ 0: a target reached with q6 = −0.4 (from a start inside the limits) ends
-    outside them; a start outside them is reported before planning."""
+    outside them, a plan that cannot be executed: exit 3, one line saying by how much, the results written.
+    A start outside them is reported before planning."""
     robot = robots.build("bayle-rrp")
     target = ",".join(
         repr(float(v)) for v in np.asarray(forward(robot, [0, 0, 0, 0.2, 0.5, -0.4], robot.task))
     )
     args = ["plan", "bayle-rrp", "--target", target, "--x", "0.2,0.5,0.1", "--harmonics", "1", "--json"]
-    main(args)
-    captured = capsys.readouterr()
-    report = json.loads(captured.out)
-    assert report["converged"] and report["x"][2] < 0.0
+    code, stdout, err = cli_run([*args, "--out", str(tmp_path / "plan")])
+    report = json.loads(stdout)
+    assert code == 3 and report["converged"] and report["reached"] is False
+    assert report["x"][2] < 0.0
     assert report["outside_limits"] == {"start": [], "end": ["q6"]}
-    (line,) = captured.err.strip().splitlines()
-    assert line.startswith("warning: planned x: q6 = ") and "outside [0, inf]" in line
-    code, captured = _run([*args, "--strict-limits"], capsys)
-    (line,) = captured.err.strip().splitlines()
-    assert code == 2 and line.startswith("error: planned x: q6 = ")
-    code, captured = _run([*args[:5], "0.2,0.5,-0.5", "--strict-limits"], capsys)
-    (line,) = captured.err.strip().splitlines()
+    (line,) = err.strip().splitlines()
+    assert line.startswith(
+        "warning: mobman plan: not reached: the plan ends outside the joint limits: q6 = -0.4 m, 0.4 m below "
+        "its limits [0, inf] (final error "
+    )
+    assert (tmp_path / "plan" / "paths.png").stat().st_size > 0
+    code, _, err = cli_run([*args, "--strict-limits"])  # --strict-limits is about the start
+    assert code == 3 and err.startswith("warning: mobman plan: not reached: ")
+    code, _, err = cli_run([*args[:5], "0.2,0.5,-0.5", "--strict-limits"])
+    (line,) = err.strip().splitlines()
     assert (
         code == 2
         and line == "error: start (--start, --x): q6 = -0.5 outside [0, inf] (the robot's joint limits)"

@@ -9,12 +9,14 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from mobman import kinematics
 from mobman.cli import common, main
 from mobman.cli import simulate as simulate_cli
 from mobman.control import spec
 from mobman.control.metrics import RunningSummary
 from mobman.io import trajectories
 from mobman.model import robots
+from mobman.model.tasks import Position
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "bayle_ellipse.toml"
 
@@ -49,12 +51,100 @@ def _spec(tmp_path: Path, text: str) -> Path:
     return path
 
 
-def test_example_spec_runs(tmp_path, capsys):
+def test_a_run_short_of_its_goal_exits_3_saying_by_how_much_with_its_results_written(tmp_path, cli_run):
+    """The example's first second: the tool starts 0.799 m from the ellipse (at (1.5, −0.1); the tool at
+    (0.5√2, 0)) and Bayle's law closes ė = −W e, so 0.799 e^{−1} = 0.294 m is left at t = 1 s."""
     text = EXAMPLE.read_text().replace("duration = 30.0", "duration = 1.0")
-    main(["simulate", str(_spec(tmp_path, text)), "--json"])
-    metrics = json.loads(capsys.readouterr().out)
-    assert metrics["duration"] == pytest.approx(1.0)
-    assert len(metrics["q_final"]) == 5 and "system_w5_min" in metrics
+    path, out = _spec(tmp_path, text), tmp_path / "run"
+    code, stdout, err = cli_run(["simulate", str(path), "--json", "--out", str(out)])
+    metrics = json.loads(stdout)
+    left = np.hypot(1.5 - 0.5 * np.sqrt(2), 0.1) * np.exp(-1.0)
+    assert (
+        code == 3 and metrics["final_error"] == pytest.approx(left, rel=1e-4) and metrics["reached"] is False
+    )
+    assert err.strip().splitlines()[-1] == (
+        f"warning: mobman simulate: not reached: final error {left:.3g} m > tolerance 0.001 m"
+    )
+    assert json.loads((out / "results.json").read_text())["metrics"]["reached"] is False
+    assert (
+        (out / "paths.png").stat().st_size > 0 and len(metrics["q_final"]) == 5 and "system_w5_min" in metrics
+    )
+    code, stdout, _ = cli_run(["simulate", str(path), "--json", "--tolerance", "0.3"])
+    assert code == 0 and json.loads(stdout)["reached"] is True and json.loads(stdout)["tolerance"] == 0.3
+
+
+TO_TARGET = ["--duration", "4", "--dt", "0.02", "--json"]
+
+
+@pytest.mark.parametrize("law", ["qp", "bayle"])
+def test_simulate_robot_to_a_target_without_a_spec(tmp_path, cli_run, law):
+    """bayle-planar's tool (at the height 0) driven to (1.5, 0.5, 0) from the robot's default configuration
+    (every coordinate 0), within the tolerance; the QP law's velocity limits hold it back on the way
+    (saturated samples) without keeping it from the goal."""
+    out = tmp_path / "run"
+    code, stdout, err = cli_run(
+        ["simulate", "bayle-planar", "--target", "1.5,0.5,0", *TO_TARGET, "--law", law]
+    )
+    metrics = json.loads(stdout)
+    assert code == 0 and err == "" and metrics["reached"] is True and metrics["final_error"] <= 1e-3
+    assert metrics["q0"] == [0.0] * 5 and metrics["target"] == [1.5, 0.5, 0.0] and metrics["law"] == law
+    tool = kinematics.forward(robots.bayle_planar(), metrics["q_final"], Position("xyz"))
+    np.testing.assert_allclose(tool, [1.5, 0.5, 0.0], atol=1e-3)
+    if law == "qp":
+        assert metrics["saturated_steps"] > 0 and metrics["velocity_limit_ratio"] <= 1 + 1e-9
+        code, _, _ = cli_run(
+            ["simulate", "bayle-planar", "--target", "1.5,0.5,0", *TO_TARGET, "--out", str(out)]
+        )
+        saved = json.loads((out / "results.json").read_text())
+        assert code == 0 and saved["robot"] == "bayle-planar" and saved["target"] == [1.5, 0.5, 0.0]
+        (motion,) = trajectories.read(out)
+        np.testing.assert_array_equal(motion.q[0], np.zeros(5))
+
+
+@pytest.mark.parametrize(
+    "target, left, cut",
+    [
+        ("1.5,0.5,0.8", "0.8 m", ""),  # a planar robot: its tool stays at the height 0
+        ("1e6,0,0", "1e+06 m", "; the limits cut the controls at "),  # 1e6 m away, at most 0.5 m/s
+    ],
+)
+def test_simulate_robot_to_a_target_out_of_reach_exits_3(tmp_path, cli_run, target, left, cut):
+    out = tmp_path / "run"
+    code, stdout, err = cli_run(
+        ["simulate", "bayle-planar", "--target", target, *TO_TARGET, "--out", str(out)]
+    )
+    line = err.strip().splitlines()[-1]
+    assert code == 3 and json.loads(stdout)["reached"] is False
+    assert line.startswith(
+        f"warning: mobman simulate: not reached: final error {left} > tolerance 0.001 m{cut}"
+    )
+    assert json.loads((out / "results.json").read_text())["metrics"]["reached"] is False
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["bayle-planar", "--target", "1,0"], "--target: 3 values x,y,z (m) or 6"),
+        (["bayle-planar", "--target", "1,0,0", "--law", "pid"], "--law must be one of qp, bayle, got 'pid'"),
+        (["bayle-planar", "--target", "1,0,0", "--duration", "-1"], "--duration must be a finite number > 0"),
+        (["bayle-planar", "--target", "1,0,0", "--dt", "nan"], "--dt must be a finite number > 0"),
+        (["bayle-planar", "--target", "1,0,0", "--q", "0,0"], "--q: "),
+        (
+            ["bayle-planar", "--target", "1,0,0", "--tolerance", "0"],
+            "--tolerance must be a finite number > 0",
+        ),
+        ([str(EXAMPLE), "--q", "0,0,0,0,0"], "--q: only with ROBOT --target"),
+        (
+            ["bayle-planar"],
+            "'bayle-planar' is not a spec file (SPEC.toml); to simulate a robot toward a target",
+        ),
+        ([str(EXAMPLE), "--tolerance", "-1"], "--tolerance must be a finite number > 0"),
+    ],
+)
+def test_invalid_target_options_are_one_line_exit_2(cli_run, args, message):
+    code, _, err = cli_run(["simulate", *args])
+    (line,) = err.strip().splitlines()
+    assert code == 2 and line.startswith("error: ") and message in line
 
 
 def test_simulate_json_and_out(tmp_path, capsys):

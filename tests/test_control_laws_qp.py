@@ -171,6 +171,31 @@ def test_a_joint_beyond_its_limit_moves_back_at_the_damper_s_rate():
     assert bool(step.speed_limited)
 
 
+def test_saturated_says_when_the_limits_cut_the_task_velocity():
+    """``saturated``: a bound is active and J̄η falls short of ξ̇* + W e (checked here with J̄ from the
+    kinematics); a joint held by its damper while the others make up for it cuts nothing."""
+    q = np.array([0.2, 0.1, 0.3, 0.7, 1.1])
+    xi = np.asarray(kinematics.forward(ROBOT, q, TASK))
+    jbar = np.asarray(kinematics.reduced_jacobian(ROBOT, q, TASK))
+    law = laws.WholeBodyQP(W=2.0)
+    step = jax.jit(lambda xsd: law(ROBOT, TASK, q, 0.0, xi, xsd))
+    for xsd, cut in (([0.05, -0.03], False), ([5.0, -3.0], True), ([0.0, 0.0], False)):  # m/s
+        got = step(np.array(xsd))
+        shortfall = np.linalg.norm(jbar @ np.asarray(got.eta) - xsd)
+        assert bool(got.saturated) is cut and bool(got.speed_limited) is cut
+        assert (
+            shortfall > 0.5 * np.linalg.norm(xsd) if cut else shortfall < 1e-3 * np.linalg.norm(xsd) + 1e-12
+        )
+    torso_above = np.array([0.0, 0.0, 0.0, 0.36, 0.5, 0.3, -1.2, 1.5, 0.3, 0.5, 0.0])
+    xi = np.asarray(kinematics.forward(TIAGO, torso_above))
+    held = jax.jit(lambda qq: laws.WholeBodyQP(W=1.0)(TIAGO, None, qq, 0.0, xi + [0, 0, 0.1], np.zeros(3)))(
+        torso_above
+    )
+    realised = np.asarray(kinematics.reduced_jacobian(TIAGO, torso_above)) @ np.asarray(held.eta)
+    assert bool(held.joint_limited) and not bool(held.saturated)
+    np.testing.assert_allclose(realised, [0, 0, 0.1], atol=1e-4)
+
+
 def test_laws_differing_in_gains_run_as_one_batch():
     q0 = np.array([0.0, 0.0, 0.0, 0.7, 1.1])
     start = np.asarray(kinematics.forward(ROBOT, q0, TASK))

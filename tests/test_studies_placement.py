@@ -5,13 +5,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from lift_robot import HIGHEST, LOWEST, lift_file
 
 from mobman import kinematics as K
 from mobman.errors import InputError
+from mobman.io import robot_file
 from mobman.model import robots
 from mobman.model.tasks import EulerAngles, Pose, Position
 from mobman.redundancy import sample_configurations
-from mobman.studies.placement import candidate_bases, place, reach_radius
+from mobman.studies.placement import candidate_bases, closest_height, place, reach_radius
 
 from tiago_urdf import pinocchio_tool_positions
 
@@ -21,6 +23,17 @@ L1 = L2 = 0.5
 def _planar():
     """Bayle's platform with its horizontal 2R arm at the axle midpoint, the task the tip's (x, y)."""
     return robots.build("bayle-planar", l1=L1, l2=L2).with_task(Position("xy"))
+
+
+def test_closest_height_is_the_end_of_the_lift_s_travel(tmp_path):
+    """The lift robot's tool reaches the heights 0.5 to 1.1 m (tests/lift_robot.py): a height outside is met
+    by the nearest end of the lift's travel, one inside by itself; a task without a height has none."""
+    robot = robot_file.load(lift_file(tmp_path))
+    assert closest_height(robot, 1.5) == pytest.approx(HIGHEST, abs=1e-9)
+    assert closest_height(robot, -2.0) == pytest.approx(LOWEST, abs=1e-9)
+    assert closest_height(robot, 0.7) == pytest.approx(0.7, abs=1e-9)
+    assert closest_height(robot, 1.0, Pose()) == pytest.approx(1.0, abs=1e-9)
+    assert closest_height(robot, 1.0, Position("xy")) is None
 
 
 def test_candidate_bases_circle_the_centre_and_the_first_heading_faces_it():

@@ -7,7 +7,8 @@ EXIT_CODES = {
     0: "success",
     1: "unexpected failure (one line naming the command; please report it)",
     2: "bad input: an option, a file or an output folder (one line naming the field)",
-    3: "the run finished without reaching its goal (not converged, saturated, unbounded); results written",
+    3: "the run finished without reaching its goal (final error above the tolerance, not converged, outside the "
+    "joint limits, no base, unbounded); results written",
     130: "interrupted (Ctrl-C); partial output removed",
 }
 """Exit status of the ``mobman`` command."""

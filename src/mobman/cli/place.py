@@ -6,7 +6,10 @@ solves the arm's inverse kinematics from ``--starts`` postures within the joint 
 bases that reach the target by a manipulability measure of the posture (``--measure``, ``--level``).
 ``--keep-out`` regions of the floor (repeatable) leave out the bases from which the platform, covered by the
 disc of ``--footprint`` (by default the one covering the platform's drawn shapes), would overlap one of them
-(:mod:`mobman.studies.floor`). Exit status 3 when no base reaches it (the candidates are still printed).
+(:mod:`mobman.studies.floor`). Exit status 3 when no base reaches it (the candidates are still printed), with
+one line saying why: a target beyond the robot's reach (its height above or below what any posture reaches,
+or every base farther than the arm reaches; :func:`mobman.studies.placement.out_of_reach`), or else the
+closest error and what to try.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
 from mobman.manipulability import MEASURES
 from mobman.model.tasks import Position
-from mobman.studies.placement import LEVELS, Placement, place, place_with_map
+from mobman.studies.placement import LEVELS, Placement, out_of_reach, place, place_with_map
 
 
 def _entry(result: Placement, k: int) -> dict[str, Any]:
@@ -112,12 +115,13 @@ def place_command(
     platform: str | None = UrdfOption.platform,
     wheels: str | None = UrdfOption.wheels,
     lock: list[str] | None = UrdfOption.lock,
+    platform_option: list[str] | None = UrdfOption.platform_option,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Find platform poses from which the arm reaches --target, ranked by manipulability."""
     if top < 1:
         raise InputError(f"--top must be ≥ 1, got {top}")
-    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
+    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock, platform_option))
     grid = {
         "centre": None if centre is None else parse_vector(centre, "--centre", 2),
         "radii": None if radii is None else parse_vector(radii, "--radii"),
@@ -175,6 +179,7 @@ def place_command(
         not_reached("place", f"every base of the {report['candidates']} is blocked by --keep-out")
     if not ranking:
         closest = float(np.min(result.error[~result.blocked]))
+        why = out_of_reach(robot, result, task)
         advice = (
             "a map over more of the space" if reachability is not None else "other --radii or more --starts"
         )
@@ -182,7 +187,7 @@ def place_command(
             "place",
             f"no base of the {report['candidates']} reaches the target (closest error {closest:.3e}"
             + (f", {report['blocked']} blocked by --keep-out" if report["blocked"] else "")
-            + f"); try {advice}",
+            + (f"): {why}" if why is not None else f"); try {advice}"),
         )
 
 

@@ -4,9 +4,14 @@ The unknowns are the platform controls over [0, T] (a truncated Fourier series w
 harmonics per control) and the arm joint positions x; the platform starts at ``--start`` = q_p(0), all its
 coordinates (e.g. ``5,0,0,pi/6`` for the car: x, y, θ, φ), default the origin. Initial guess: the constant
 term of control i is 0.01·(−1)^i (the paper's λ01 = 0.01, λ02 = −0.01), other coefficients 0, x = ``--x``
-(default 0 clipped to the joint limits). A start configuration (``--start``, ``--x``) or planned arm joints x
-outside the robot's joint limits give a warning line (``outside_limits`` in ``--json``); ``--strict-limits``
-makes them an error (exit 2, nothing written).
+(default 0 clipped to the joint limits). A start configuration (``--start``, ``--x``) outside the robot's joint
+limits gives a warning line (``outside_limits`` in ``--json``); ``--strict-limits`` makes it an error (exit 2,
+nothing written).
+
+A plan reaches its goal (``reached`` in ``--json``) when the algorithm converged (‖K − y_d‖ ≤ ``--tol``) and its
+arm joint positions x lie within the robot's joint limits: a plan that ends outside them cannot be executed.
+Otherwise the command ends with one line saying what was not reached and by how much, and exit status 3 (the
+report printed, the figures written).
 """
 
 from __future__ import annotations
@@ -143,6 +148,7 @@ def plan_command(
     platform: str | None = UrdfOption.platform,
     wheels: str | None = UrdfOption.wheels,
     lock: list[str] | None = UrdfOption.lock,
+    platform_option: list[str] | None = UrdfOption.platform_option,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Path | None = typer.Option(None, "--out", help="Folder for the path and convergence figures."),
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
@@ -156,7 +162,7 @@ def plan_command(
         raise InputError(f"--harmonics must be in 0..{MAX_HARMONICS}, got {harmonics}")
     if not 1 <= max_iterations <= MAX_ITERATIONS:
         raise InputError(f"--max-iterations must be in 1..{MAX_ITERATIONS}, got {max_iterations}")
-    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock))
+    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock, platform_option))
     if out is not None:
         check_folder(out, "plan")
     setting = PlanningSetting(robot, Fourier(harmonics), horizon=horizon)
@@ -187,13 +193,8 @@ def plan_command(
         algorithm, _step(step), gamma=gamma, tol=tol, max_iterations=max_iterations, extension=ext
     )
     result = plan(setting, z0, q0, y_d, options)
-    end = np.concatenate([q0, result.x])[None]
-    arm = slice(robot.platform.n_q, None)
-    end_outside = (
-        outside_limits(robot, end, "planned x", strict_limits, arm, "the plan ends there")[0]
-        if np.all(np.isfinite(end))
-        else []
-    )
+    end = np.concatenate([q0, result.x])
+    beyond = _limit_excess(robot, end, slice(robot.platform.n_q, None))
     coarse = setting.jacobian_setting
     d0, d1 = dexterity(coarse, z0, q0), dexterity(coarse, result.z, q0)
     report: dict[str, Any] = {
@@ -212,7 +213,8 @@ def plan_command(
         "dexterity_end": d1,
         "lambda": result.lam,
         "x": result.x,
-        "outside_limits": {"start": start_outside, "end": end_outside},
+        "outside_limits": {"start": start_outside, "end": list(beyond)},
+        "reached": bool(result.converged and not beyond),
         "error_history": result.errors,
     }
     if out is not None:
@@ -233,18 +235,45 @@ def plan_command(
         typer.echo(dump_json(report))
     else:
         _print(report, result, options, robot_name, algorithm)
-    if not result.converged:
-        not_reached(
-            "plan",
-            f"{result.status} after {result.iterations} iterations, final error {result.final_error:.3e}",
+    if not report["reached"]:
+        missed = [] if result.converged else [f"{result.status} after {result.iterations} iterations"]
+        if beyond:
+            missed.append(f"the plan ends outside the joint limits: {_outside(robot, end, beyond)}")
+        not_reached("plan", f"not reached: {'; '.join(missed)} (final error {result.final_error:.3e})")
+
+
+def _limit_excess(robot: MobileManipulator, q: np.ndarray, coordinates: slice) -> dict[str, float]:
+    """The ``coordinates`` of one configuration q (n_q) outside the robot's joint limits, by name: how far
+    (m or rad), positive above the upper limit, negative below the lower one (a non-finite value is not
+    counted: it is no plan at all)."""
+    lower, upper = np.asarray(robot.position_limits, dtype=float)[coordinates].T
+    values = np.asarray(q, dtype=float)[coordinates]
+    excess = np.where(values > upper, values - upper, np.where(values < lower, values - lower, 0.0))
+    names = robot.coordinate_names[coordinates]
+    return {name: float(e) for name, e in zip(names, excess) if e != 0.0}
+
+
+def _outside(robot: MobileManipulator, q: np.ndarray, beyond: dict[str, float]) -> str:
+    """The coordinates of :func:`_limit_excess` in words: value, excess and limits, in m or rad."""
+    names = list(robot.coordinate_names)
+    kinds = ["platform"] * robot.n_platform + [j.kind for arm in robot.arms for j in arm.joints]
+    items = []
+    for name, excess in beyond.items():
+        i = names.index(name)
+        unit = "m" if kinds[i] == "prismatic" else "rad"
+        lower, upper = robot.position_limits[i]
+        side = "above" if excess > 0 else "below"
+        items.append(
+            f"{name} = {q[i]:.4g} {unit}, {abs(excess):.3g} {unit} {side} its limits [{lower:.4g}, {upper:.4g}]"
         )
+    return ", ".join(items)
 
 
 def _print(report: dict, result: PlanResult, options: Options, robot_name: str, algorithm: str) -> None:
     table = Table(title=f"mobman plan {robot_name} ({algorithm}, Δθ = {options.step})")
     table.add_column("quantity")
     table.add_column("value", overflow="fold")
-    for key in ("status", "iterations", "final_error", "dexterity_start", "dexterity_end"):
+    for key in ("status", "reached", "iterations", "final_error", "dexterity_start", "dexterity_end"):
         value = report[key]
         table.add_row(key, f"{value:.3e}" if isinstance(value, float) else str(value))
     table.add_row("lambda", np.array2string(result.lam, precision=4))

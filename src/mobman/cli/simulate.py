@@ -1,4 +1,10 @@
-"""``mobman simulate SPEC.toml``: closed-loop simulation of an operational task (see mobman.control.spec).
+"""``mobman simulate SPEC.toml``: closed-loop simulation of an operational task (see mobman.control.spec);
+``mobman simulate ROBOT --target x,y,z[,roll,pitch,yaw]``: the same without a file, toward a point or a pose of
+the tool (:func:`target_spec`).
+
+A run reaches its goal when its final tracking error ‖ξ*(T) − ξ(T)‖ is at most ``--tolerance`` (default
+:data:`TOLERANCE`, in the task's units: m for positions, rad for angles); one that does not ends with one line
+saying by how much, and exit status 3, its results printed and written.
 
 A run of more than :data:`STREAM_STEPS` steps is computed in pieces of that many samples, one after the other
 (:func:`mobman.control.simulate_pieces`), so that memory holds one piece: the metrics are accumulated piece by
@@ -23,14 +29,29 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import MAX_STEPS, check_disk, check_steps, not_reached, progress_bar
+from mobman.cli.common import (
+    MAX_STEPS,
+    UrdfOption,
+    check_disk,
+    check_steps,
+    load_robot,
+    not_reached,
+    progress_bar,
+    refuse_urdf_options,
+    urdf_options,
+)
 from mobman.cli.limits import STRICT_HELP, outside_limits
+from mobman.errors import InputError
 from mobman.io import dump_json, trajectories
+from mobman.io.numbers import parse_vector
 from mobman.io.output import check_folder, results_folder, save_figure, write_text
+from mobman.model.tasks import MountPosition, OrientationTask, Position
 
 if TYPE_CHECKING:
     from mobman.control.simulation import SimulationResult
     from mobman.control.spec import Spec
+    from mobman.model.robot import MobileManipulator
+    from mobman.model.tasks import Task
 
 PROGRESS_STEPS = 5000
 """Runs with more steps than this show a progress bar (computed in compiled chunks)."""
@@ -40,6 +61,107 @@ STREAM_STEPS = 100_000
 
 PLOT_SAMPLES = 10_000
 """Most samples drawn in the figures (and saved in ``trajectories.json``) of a run computed in pieces."""
+
+
+TOLERANCE = 1e-3
+"""Default ``--tolerance``: the largest final tracking error of a run that reaches its goal (1 mm, 1 mrad)."""
+
+TARGET_LAWS = ("qp", "bayle")
+"""The laws of ``simulate ROBOT --target``: the QP law within the robot's limits, or Bayle's (eq. 5–6)."""
+
+TARGET_DURATION, TARGET_DT = 10.0, 0.01
+"""``simulate ROBOT --target``'s ``--duration`` and ``--dt`` (s) when not given (``--law``: the first of
+:data:`TARGET_LAWS`)."""
+
+TARGET_GAIN = 2.0
+"""W (1/s) of ``simulate ROBOT --target``: a lag left when the reference stops decays as exp(−W t)."""
+
+TARGET_DAMPING = 0.05
+"""λ_max of Bayle's law in ``simulate ROBOT --target``: damped least squares where σ_min < 0.05 only (a
+target out of reach stretches the arm into a singular configuration)."""
+
+
+def default_configuration(robot: MobileManipulator) -> np.ndarray:
+    """The robot's default configuration: every coordinate at 0, clipped to its joint limits."""
+    lower, upper = np.asarray(robot.position_limits, dtype=float).T
+    return np.clip(np.zeros(robot.n_q), lower, upper)
+
+
+def target_spec(
+    robot: MobileManipulator, target: np.ndarray, q0: np.ndarray, law: str, duration: float, dt: float
+) -> Spec:
+    """The run of ``simulate ROBOT --target``, as the specification document it stands for
+    (:func:`mobman.control.spec.parse`): the tool of the first arm (a ``position`` task x, y, z for 3 values
+    of ``target``, a ``pose`` task for 6: x, y, z, roll, pitch, yaw with R = Rz(yaw) Ry(pitch) Rx(roll))
+    moved from its pose at ``q0`` to the target in the first half of ``duration`` (a ``line`` or ``pose``
+    reference with quintic timing), then held there; ``law`` (one of :data:`TARGET_LAWS`) with
+    W = :data:`TARGET_GAIN` and no self-motion."""
+    from mobman import kinematics
+    from mobman.control import spec
+    from mobman.model.tasks import Pose
+
+    if law not in TARGET_LAWS:
+        raise InputError(f"--law must be one of {', '.join(TARGET_LAWS)}, got {law!r}")
+    for name, value in (("--duration", duration), ("--dt", dt)):
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"{name} must be a finite number > 0 s, got {value!r}")
+    motion = {"duration": duration / 2, "timing": "quintic"}
+    if len(target) == 3:
+        start = np.asarray(kinematics.forward(robot, q0, Position("xyz")))
+        task = {"kind": "position", "components": "xyz"}
+        reference = {"kind": "line", "start": start.tolist(), "end": target.tolist(), **motion}
+    else:
+        start = np.asarray(kinematics.forward(robot, q0, Pose()))
+        task = {"kind": "pose"}
+        reference = {
+            "kind": "pose",
+            "start": start[:3].tolist(),
+            "start_rotvec": start[3:].tolist(),
+            "end": target[:3].tolist(),
+            "end_rpy": target[3:].tolist(),
+            **motion,
+        }
+    options = {"damping": TARGET_DAMPING} if law == "bayle" else {}
+    document = {
+        "duration": duration,
+        "dt": dt,
+        "q0": q0.tolist(),
+        "task": task,
+        "reference": reference,
+        "law": {"kind": law, **options},
+        "gains": {"W": TARGET_GAIN},
+    }
+    return spec.parse(document, robot=robot)
+
+
+def _unit(task: Task) -> str:
+    """The unit of a task's error, with its leading space: m for positions, rad for angles, none for others
+    (a pose's error holds both)."""
+    if isinstance(task, (Position, MountPosition)):
+        return " m"
+    return " rad" if isinstance(task, OrientationTask) else ""
+
+
+def _judge(summary: dict, tolerance: float) -> None:
+    """Add to a run's metrics the ``tolerance`` and whether the run ``reached`` its goal: a finite final state
+    and a final tracking error within the tolerance."""
+    final = summary["final_error"]
+    finite = bool(np.all(np.isfinite(summary["q_final"]))) and math.isfinite(final)
+    summary["tolerance"] = tolerance
+    summary["reached"] = finite and final <= tolerance
+
+
+def _not_reached(summary: dict, unit: str, samples: int) -> None:
+    """End a run that did not reach its goal (:func:`_judge`): one line, by how much and what held it back."""
+    if not np.all(np.isfinite(summary["q_final"])):
+        not_reached("simulate", "not reached: the state left the finite numbers")
+    saturated = summary["saturated_steps"]
+    cause = f"; the limits cut the controls at {saturated} of {samples} samples" if saturated else ""
+    not_reached(
+        "simulate",
+        f"not reached: final error {summary['final_error']:.3g}{unit} > tolerance {summary['tolerance']:g}"
+        f"{unit}{cause}",
+    )
 
 
 def _steps(spec: Spec) -> int:
@@ -139,11 +261,11 @@ def _decimated(folder: Path, spec: Spec, samples: int) -> tuple[SimulationResult
     ), stride
 
 
-def _figures(out: Path, spec_path: Path, result: SimulationResult) -> list[Path]:
+def _figures(out: Path, name: str, result: SimulationResult) -> list[Path]:
     from mobman.viz import plot_paths, plot_timeseries
 
     assert result.robot is not None  # a run of simulate() records its robot
-    trajectories.write(out, [trajectories.Motion.of(spec_path.stem, result.robot, result.t, result.q)])
+    trajectories.write(out, [trajectories.Motion.of(name, result.robot, result.t, result.q)])
     figures = [out / "paths.png", out / "timeseries.png"]
     save_figure(plot_paths(result.robot, result.q, reference=result.xi_star[:, :2]), figures[0], dpi=120)
     panels = {
@@ -156,15 +278,13 @@ def _figures(out: Path, spec_path: Path, result: SimulationResult) -> list[Path]
     return figures
 
 
-def _write(out: Path, spec_path: Path, result: SimulationResult, summary: dict) -> list[Path]:
-    write_text(
-        out / "results.json",
-        dump_json({"spec": str(spec_path), "metrics": summary, "series": _series(result)}),
-    )
-    return _figures(out, spec_path, result)
+def _write(out: Path, source: dict, name: str, result: SimulationResult, summary: dict) -> list[Path]:
+    """``results.json`` (``source``: what the run was made from, the metrics, the series) and the figures."""
+    write_text(out / "results.json", dump_json({**source, "metrics": summary, "series": _series(result)}))
+    return _figures(out, name, result)
 
 
-def _write_streamed(out: Path, spec_path: Path, spec: Spec, summary: dict) -> list[Path]:
+def _write_streamed(out: Path, source: dict, name: str, spec: Spec, summary: dict) -> list[Path]:
     samples = _steps(spec)
     result, stride = _decimated(out, spec, samples)
     files: dict[str, str | dict[str, str]] = {
@@ -172,19 +292,54 @@ def _write_streamed(out: Path, spec_path: Path, spec: Spec, summary: dict) -> li
     }
     files["measures"] = {name: f"measures_{name}.npy" for name in spec.measures}
     document = {
-        "spec": str(spec_path),
+        **source,
         "metrics": summary,
         "samples": samples,
         "series": files,
         "figure_stride": stride,
     }
     write_text(out / "results.json", dump_json(document))
-    return _figures(out, spec_path, result)
+    return _figures(out, name, result)
 
 
 @app.command("simulate")
 def simulate_command(
-    spec_path: Path = typer.Argument(..., metavar="SPEC.toml", help="TOML specification (docs/control.md)."),
+    source: str = typer.Argument(
+        ...,
+        metavar="SPEC.toml | ROBOT",
+        help="A TOML specification (docs/control.md); with --target, a robot: built-in (see `mobman robots`), "
+        "a .toml or a .urdf file.",
+    ),
+    target: str | None = typer.Option(
+        None,
+        "--target",
+        help="Simulate ROBOT toward the tool target x,y,z (m) or x,y,z,roll,pitch,yaw (m, rad), without a spec.",
+    ),
+    q: str | None = typer.Option(
+        None, "--q", help="With --target: the start configuration (default: 0 clipped to the joint limits)."
+    ),
+    law: str | None = typer.Option(None, "--law", help="With --target: qp (the default) or bayle."),
+    duration: float | None = typer.Option(
+        None,
+        "--duration",
+        help="With --target: the run's length (s, default 10); the reference moves for half.",
+    ),
+    dt: float | None = typer.Option(None, "--dt", help="With --target: the time step (s, default 0.01)."),
+    tolerance: float = typer.Option(
+        TOLERANCE,
+        "--tolerance",
+        help="Largest final tracking error ‖ξ* − ξ‖ of a run that reaches its goal (m for positions, rad for "
+        "angles); above it, exit 3.",
+    ),
+    params: list[str] | None = typer.Option(
+        None, "--param", help="With --target: robot parameter NAME=VALUE."
+    ),
+    tip: list[str] | None = UrdfOption.tip,
+    base: str | None = UrdfOption.base,
+    platform: str | None = UrdfOption.platform,
+    wheels: str | None = UrdfOption.wheels,
+    lock: list[str] | None = UrdfOption.lock,
+    platform_option: list[str] | None = UrdfOption.platform_option,
     out: Path | None = typer.Option(None, "--out", help="Write results.json and figures into this folder."),
     json_output: bool = typer.Option(False, "--json", help="Print the metrics as one JSON object."),
     max_steps: int = typer.Option(
@@ -192,10 +347,45 @@ def simulate_command(
     ),
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
 ) -> None:
-    """Simulate a control law tracking an operational reference; print the run's metrics."""
+    """Simulate a control law tracking an operational reference (a spec file, or ROBOT --target); print the
+    run's metrics. Exit 3 when the final tracking error is above --tolerance."""
     from mobman.control import metrics, spec
 
-    parsed = spec.load(spec_path)
+    if not (math.isfinite(tolerance) and tolerance > 0):
+        raise InputError(f"--tolerance must be a finite number > 0 (m or rad), got {tolerance!r}")
+    urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
+    given = {"--q": q, "--law": law, "--duration": duration, "--dt": dt, "--param": params or None}
+    extra: dict = {}
+    if target is None:
+        refuse_urdf_options(urdf, "a spec file (give ROBOT and --target)")
+        if any(value is not None for value in given.values()):
+            flags = ", ".join(name for name, value in given.items() if value is not None)
+            raise InputError(f"{flags}: only with ROBOT --target; a spec file sets them itself")
+        if not (source.endswith(".toml") or Path(source).is_file()):
+            raise InputError(
+                f"{source!r} is not a spec file (SPEC.toml); to simulate a robot toward a target, give "
+                "--target x,y,z or x,y,z,roll,pitch,yaw"
+            )
+        parsed = spec.load(Path(source))
+        name, title, origin = Path(source).stem, Path(source).name, {"spec": source}
+    else:
+        robot = load_robot(source, params, urdf)
+        start = parse_vector(q, "--q", robot.n_q) if q is not None else default_configuration(robot)
+        goal = parse_vector(target, "--target", None)
+        if goal.size not in (3, 6):
+            raise InputError(
+                f"--target: 3 values x,y,z (m) or 6 x,y,z,roll,pitch,yaw (m, rad), got {goal.size}"
+            )
+        kind = TARGET_LAWS[0] if law is None else law
+        length = TARGET_DURATION if duration is None else duration
+        parsed = target_spec(robot, goal, start, kind, length, TARGET_DT if dt is None else dt)
+        name = title = f"{source} to {target}"
+        origin = extra = {
+            "robot": source,
+            "target": goal.tolist(),
+            "q0": start.tolist(),
+            "law": kind,
+        }
     steps = _steps(parsed)
     streamed = steps > STREAM_STEPS
     check_steps(steps, _values_per_step(parsed), "duration / dt", max_steps, held=min(steps, STREAM_STEPS))
@@ -210,28 +400,30 @@ def simulate_command(
             summary, last = stream(parsed, staging, quiet=json_output, chunk=STREAM_STEPS)
             summary["q_final"] = np.asarray(last.q[-1]).tolist()
             summary["outside_limits"] = outside
+            summary |= extra
+            _judge(summary, tolerance)
             if staging is not None:
-                _write_streamed(staging, spec_path, parsed, summary)
+                _write_streamed(staging, origin, name, parsed, summary)
     else:
         result = _run(parsed, quiet=json_output)
         summary = metrics.summarize(result, parsed.robot)
         summary["q_final"] = result.q[-1].tolist()
         summary["outside_limits"] = outside
+        summary |= extra
+        _judge(summary, tolerance)
         if out is not None:
             with results_folder(out, "simulate") as staging:
-                _write(staging, spec_path, result, summary)
+                _write(staging, origin, name, result, summary)
     if json_output:
         typer.echo(dump_json(summary))
     else:
-        _print(spec_path, parsed, steps, summary, out)
-    saturated = summary["saturated_steps"]
-    if saturated or not np.all(np.isfinite(summary["q_final"])):
-        reason = f"the controls saturated at {saturated} of {steps} samples" if saturated else ""
-        not_reached("simulate", reason or "the state left the finite numbers")
+        _print(title, parsed, steps, summary, out)
+    if not summary["reached"]:
+        _not_reached(summary, _unit(parsed.law.controlled_task(parsed.task)), steps)
 
 
-def _print(spec_path: Path, parsed: Spec, samples: int, summary: dict, out: Path | None) -> None:
-    table = Table(title=f"{spec_path.name}: {parsed.robot.name}, {samples} samples")
+def _print(name: str, parsed: Spec, samples: int, summary: dict, out: Path | None) -> None:
+    table = Table(title=f"{name}: {parsed.robot.name}, {samples} samples")
     table.add_column("metric")
     table.add_column("value", justify="right")
     for key, value in summary.items():

@@ -20,6 +20,13 @@ R⁻¹ η_s = −k (S R)ᵀ ∇P is Bayle's gradient in the scaled coordinates. 
 gain k for any μ; the task is tracked to a relative O(μ / σ²) where σ is the smallest singular value of J̃.
 The shared ``damping`` option adds its variable λ² (see :mod:`mobman.control.laws.base`) to μ.
 
+The limits cut the task where a bound is active and the task velocity J̄ η falls short of the commanded
+u = ξ̇* + W e by more than the program without bounds gives up (its O(μ / σ²)) plus a fraction
+:data:`SHORTFALL` of the larger of ‖u‖ and Σ_i ‖J̄_i‖ |η_i| (the task velocities of the coordinates' motions,
+each alone: a joint held back by its damper while the others make up for it cuts nothing) and :data:`FLOOR`.
+``QPStep.saturated`` reports it, as Bayle's ``saturate`` option reports that it scaled η down: in both the
+error then no longer obeys ė + W e = 0 and the tracking lags (a target out of reach is never reached).
+
 The joint rows are a velocity damper (Faverjon & Tournassoud 1987, in its linear form): the distance
 d = q_max − q obeys ḋ ≥ −γ d, so d(t) ≥ d(0) e^{−γ t} and a joint that starts within its limits never
 reaches them; one outside moves back at γ times its excess (within its velocity limit). Under a zero-order
@@ -56,6 +63,14 @@ if TYPE_CHECKING:
 ACTIVE = 1e-6
 """A constraint counts as active when its slack is under this fraction of its limit."""
 
+SHORTFALL = 1e-2
+"""The limits cut the task (``QPStep.saturated``) where they cost more than this fraction of the task's
+velocities (module docstring)."""
+
+FLOOR = 1e-6
+"""The least task velocity (m/s or rad/s) the :data:`SHORTFALL` is a fraction of: at rest, the round-off of
+the interior-point iterates cuts nothing."""
+
 MIN_REGULARIZATION = 1e-7
 """The least μ: the interior-point iterates keep their slacks and multipliers above √eps ≈ 1.5e-8, a force
 that a smaller μ lets move the self-motion (tested: μ ≥ 1e-7 gives the closed form to 1e-9)."""
@@ -78,8 +93,8 @@ class QPStep(LawStep):
     """A :class:`~mobman.control.laws.base.LawStep` of the QP law. ``speed_limited``: a velocity or
     wheel-speed limit is active; ``joint_limited``: a joint's position bound (its damper) is active;
     ``residual``: the largest entry of the optimality conditions at the solution returned; ``P``: the
-    criterion's value (None without one). ``saturated`` is always False: η is the program's optimum, never
-    scaled afterwards."""
+    criterion's value (None without one). ``saturated``: a bound is active and it cuts the task velocity
+    J̄ η short of ξ̇* + W e (module docstring); η is the program's optimum, never scaled afterwards."""
 
     P: jnp.ndarray | None = None
     speed_limited: jnp.ndarray | None = None
@@ -227,6 +242,10 @@ class WholeBodyQP(Law):
         damper = jnp.concatenate(
             [(upper < limits.box)[has_upper], (lower > -limits.box)[has_lower], np.zeros(2 * len(ones), bool)]
         )
+        # the task velocity the bounds give up: beyond that of the program without them
+        free = jnp.linalg.solve(hessian, -linear)
+        cut = jnp.linalg.norm(matvec(a, x) - rhs) - jnp.linalg.norm(matvec(a, free) - rhs)
+        size = jnp.maximum(jnp.linalg.norm(rhs), jnp.sum(jnp.linalg.norm(a, axis=0) * jnp.abs(x)))
         eta = x * limits.scale
         ratio = jnp.zeros((), eta.dtype) if robot.velocity_limits is None else jnp.max(jnp.abs(x))
         return QPStep(
@@ -234,7 +253,7 @@ class WholeBodyQP(Law):
             lam2,
             sigma_min,
             ratio,
-            jnp.zeros((), bool),
+            jnp.any(active) & (cut > SHORTFALL * jnp.maximum(size, FLOOR)),
             lam2 > 0,
             P=value,
             speed_limited=jnp.any(active & ~damper),
@@ -243,4 +262,4 @@ class WholeBodyQP(Law):
         )
 
 
-__all__ = ["ACTIVE", "MIN_REGULARIZATION", "Bounds", "QPStep", "WholeBodyQP", "bounds"]
+__all__ = ["ACTIVE", "FLOOR", "MIN_REGULARIZATION", "SHORTFALL", "Bounds", "QPStep", "WholeBodyQP", "bounds"]
