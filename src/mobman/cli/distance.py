@@ -20,7 +20,7 @@ from rich.table import Table
 
 from mobman import collision
 from mobman.cli.app import app
-from mobman.cli.common import UrdfOption, load_robot, read_urdf_file, urdf_options
+from mobman.cli.common import UrdfOption, array_text, load_robot, read_urdf_file, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json
@@ -136,7 +136,7 @@ def _print(result: dict) -> None:
     console = Console()
     closest = result["closest"]
     head = Table(title=f"{result['robot']}: distances", show_header=False)
-    head.add_row("q", np.array2string(np.asarray(result["q"]), precision=4, suppress_small=True))
+    head.add_row("q", array_text(result["q"]))
     head.add_row("spheres (cover tolerance)", f"{result['spheres']} ({result['tolerance']:g} m)")
     if closest is None:
         head.add_row("minimum distance", "no pair (an empty scene and no self-collision pair)")

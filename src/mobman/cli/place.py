@@ -27,6 +27,7 @@ from mobman.cli.app import app
 from mobman.cli.common import (
     FloorOption,
     UrdfOption,
+    array_text,
     floor_arguments,
     load_map,
     load_robot,
@@ -195,7 +196,7 @@ def _print(report: dict, robot_name: str, n_platform: int) -> None:
     blocked = f", {report['blocked']} blocked by --keep-out" if report["footprint"] is not None else ""
     table = Table(
         title=f"mobman place {robot_name}: {report['reached']} of {report['candidates']} bases reach "
-        f"{np.array2string(np.asarray(report['target']), precision=4)} ({report['level']} {report['measure']}"
+        f"{array_text(report['target'])} ({report['level']} {report['measure']}"
         f"{blocked})"
     )
     for column in ("rank", "x", "y", "θ", report["measure"], "error", "q (arm)"):
@@ -210,6 +211,6 @@ def _print(report: dict, robot_name: str, n_platform: int) -> None:
             f"{entry['score']:.4g}",
             f"{entry['error']:.1e}",
             # one posture per target, a line each
-            "\n".join(np.array2string(q[n_platform:], precision=3) for q in np.atleast_2d(entry["q"])),
+            "\n".join(array_text(q[n_platform:], 3) for q in np.atleast_2d(entry["q"])),
         )
     Console().print(table)

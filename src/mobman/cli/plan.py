@@ -29,7 +29,7 @@ from rich.console import Console
 from rich.table import Table
 
 from mobman.cli.app import app
-from mobman.cli.common import UrdfOption, load_robot, not_reached, urdf_options
+from mobman.cli.common import UrdfOption, array_text, load_robot, not_reached, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
 from mobman.io import dump_json, trajectories
@@ -276,8 +276,8 @@ def _print(report: dict, result: PlanResult, options: Options, robot_name: str, 
     for key in ("status", "reached", "iterations", "final_error", "dexterity_start", "dexterity_end"):
         value = report[key]
         table.add_row(key, f"{value:.3e}" if isinstance(value, float) else str(value))
-    table.add_row("lambda", np.array2string(result.lam, precision=4))
-    table.add_row("x", np.array2string(result.x, precision=4))
+    table.add_row("lambda", array_text(result.lam))
+    table.add_row("x", array_text(result.x))
     for f in report.get("figures", []):
         table.add_row("figure", f)
     Console().print(table)
