@@ -17,6 +17,7 @@ from mobman.cli import (  # noqa: F401
     distance,
     dynamics,
     ellipsoid,
+    export_mjcf,
     maps,
     place,
     plan,

@@ -1,0 +1,176 @@
+"""A control law closed on MuJoCo: η from the *measured* state at the control rate, turned into wheel and
+joint velocity commands, integrated by MuJoCo's physics (the model of :func:`mobman.physics.to_mjspec`).
+
+Every control period h_c (``control_dt``) the law computes η = law(q, t, ξ*(t), ξ̇*(t)) (Bayle eq. 5–6 and
+the other laws of :mod:`mobman.control.laws`) at the configuration q that MuJoCo's state gives
+(:func:`mobman.physics.state.measured_q`); η is held for the period (zero-order hold, as
+``integrator="hold"`` of :func:`mobman.control.simulation.simulate`) and commanded to the servos:
+
+- driven wheels (differential drive, skid-steer): the actuator speeds u = T⁻¹ η_p (``eta_to_wheel_speeds``;
+  Korayem eq. 14–15), each wheel's (side's) velocity servo;
+- a car: each rear wheel at (u1 cos φ − y u1 sin φ / L) / r (the rear axle's speed and the yaw rate
+  θ̇ = u1 sin φ / L of Tchoń eq. 31 at the wheel's lateral position y), the steering servo at u2;
+- an omnidirectional platform: η_p = (ẋ, ẏ, θ̇) to its slide and hinge servos;
+- the arm joints: q̇_a to their integrated-velocity servos.
+
+MuJoCo then takes h_c / h steps of its own (``model.opt.timestep`` h; h_c must be a multiple of it). The
+record holds, per control instant, the measured q, the commanded η and the platform's nonholonomic constraint
+violation G(q_p) q̇_p measured on the simulated velocities (m/s: the wheels' lateral slip for a differential
+drive). A state that becomes non-finite, or a MuJoCo warning of an unstable step, stops the run there; the
+record up to that instant is kept and :attr:`PhysicsRun.stopped` says when and why.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import partial
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import numpy.typing as npt
+
+from mobman.control.laws import Law
+from mobman.control.references import Reference
+from mobman.dynamics.inertia import DynamicModel
+from mobman.errors import InputError
+from mobman.model.platforms.car import CarLike
+from mobman.model.robot import MobileManipulator
+from mobman.model.tasks import Task
+from mobman.physics.mjcf import mujoco_module, to_mjspec
+from mobman.physics.state import measured_q, set_configuration
+
+
+@dataclass
+class PhysicsRun:
+    """The record of a run on physics, one row per control instant t_k = k h_c, k = 0 … N (t_N = duration).
+
+    ``q`` (N, n_q) measured, ``eta`` (N, n_eta) commanded, ``slip`` (N, n_q_p − n_eta_p) the platform's
+    constraint violation G(q_p) q̇_p (m/s), ``stopped`` None for a complete run, else the time and reason it
+    stopped."""
+
+    t: np.ndarray
+    q: np.ndarray
+    eta: np.ndarray
+    slip: np.ndarray
+    stopped: str | None = None
+
+
+@partial(jax.jit, static_argnums=(0, 1))
+def _control(
+    robot: MobileManipulator, task: Task, law: Law, reference: Reference, q: jax.Array, t: jax.Array
+) -> jax.Array:
+    xi_star, xi_star_dot = reference(t)
+    return law(robot, task, q, t, xi_star, xi_star_dot).eta
+
+
+class _Commands:
+    """Writes η into ``data.ctrl`` for the actuators of a model built by :func:`to_mjspec`."""
+
+    def __init__(self, model: Any, robot: MobileManipulator) -> None:
+        self.robot, platform = robot, robot.platform
+        joints = robot.coordinate_names[robot.n_platform :]
+        self.joints = np.array([model.actuator(name).id for name in joints], dtype=int)
+        self.kind = platform.kind
+        if self.kind == "car":
+            self.rear = [
+                (model.actuator(f"wheel_rear_{'right' if s.y < 0 else 'left'}").id, s)
+                for s in platform.wheels()[:2]
+            ]
+            self.steering = model.actuator("steering").id
+        else:
+            self.platform = np.array([model.actuator(n).id for n in platform.actuator_names], dtype=int)
+
+    def apply(self, data: Any, q: np.ndarray, eta: np.ndarray) -> None:
+        platform, n_p = self.robot.platform, self.robot.platform.n_eta
+        eta_p = eta[:n_p]
+        if isinstance(platform, CarLike):
+            u1, u2 = eta_p
+            phi = q[3]
+            for actuator, site in self.rear:
+                speed = u1 * math.cos(phi) - site.y * u1 * math.sin(phi) / platform.length
+                data.ctrl[actuator] = speed / site.radius
+            data.ctrl[self.steering] = u2
+        elif n_p:
+            speeds = platform.eta_to_wheel_speeds(eta_p) if platform.wheel_actuated else eta_p
+            data.ctrl[self.platform] = np.asarray(speeds)
+        data.ctrl[self.joints] = eta[n_p:]
+
+
+def run_on_physics(
+    robot: MobileManipulator | DynamicModel,
+    law: Law,
+    reference: Reference,
+    q0: npt.ArrayLike,
+    duration: float,
+    control_dt: float,
+    *,
+    task: Task | None = None,
+    friction: float = 1.0,
+    timestep: float = 1e-3,
+    torque_limits: npt.ArrayLike | None = None,
+) -> PhysicsRun:
+    """Run ``law`` tracking ``reference`` (of ``task``, default the robot's) from q0 for ``duration`` seconds
+    on the MuJoCo model of ``robot`` (:func:`to_mjspec` with ``friction``, ``timestep``, ``torque_limits``),
+    the law evaluated every ``control_dt`` seconds (a multiple of ``timestep``) at the measured state."""
+    mj = mujoco_module()
+    kinematic = robot.robot if isinstance(robot, DynamicModel) else robot
+    task = kinematic.task if task is None else task
+    for name, value in (("duration", duration), ("control_dt", control_dt)):
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"{name} must be a finite number > 0 (s), got {value!r}")
+    substeps = round(control_dt / timestep)
+    if substeps < 1 or not math.isclose(substeps * timestep, control_dt, rel_tol=1e-9):
+        raise InputError(
+            f"control_dt = {control_dt!r} s must be a whole multiple of the physics step {timestep!r} s"
+        )
+    model = to_mjspec(robot, torque_limits=torque_limits, friction=friction, timestep=timestep).compile()
+    data = mj.MjData(model)
+    set_configuration(model, data, kinematic, q0)
+    commands = _Commands(model, kinematic)
+    n = int(round(duration / control_dt))
+    n_p = kinematic.platform.n_q
+    ts, qs, etas, slips = [], [], [], []
+    stopped = None
+    for k in range(n + 1):  # t_0 … t_N = duration, as mobman.control.simulation records
+        q = measured_q(model, data, kinematic)
+        eta = np.asarray(_control(kinematic, task, law, reference, q, k * control_dt))
+        if not np.all(np.isfinite(q)) or not np.all(np.isfinite(eta)):
+            stopped = f"t = {k * control_dt:.6g} s: non-finite state or command"
+            break
+        ts.append(k * control_dt)
+        qs.append(q)
+        etas.append(eta)
+        slips.append(
+            np.asarray(kinematic.platform.constraints(jnp.asarray(q[:n_p])))
+            @ _platform_rates(model, data, kinematic)
+        )
+        if k == n:
+            break
+        commands.apply(data, q, eta)
+        for _ in range(substeps):
+            mj.mj_step(model, data)
+        if data.warning[mj.mjtWarning.mjWARN_BADQACC].number:
+            stopped = f"t = {data.time:.6g} s: MuJoCo reports an unstable step (bad acceleration)"
+            break
+    return PhysicsRun(np.array(ts), np.array(qs), np.array(etas), np.array(slips), stopped)
+
+
+def _platform_rates(model: Any, data: Any, robot: MobileManipulator) -> np.ndarray:
+    """q̇_p measured: (ẋ, ẏ, θ̇) of the platform frame (and a car's φ̇)."""
+    kind = robot.platform.kind
+    if kind == "fixed":
+        return np.zeros(robot.platform.n_q)
+    if kind == "omnidirectional":
+        return np.array(
+            [data.qvel[model.jnt_dofadr[model.joint(n).id]] for n in robot.platform.actuator_names]
+        )
+    velocity = np.zeros(6)
+    mj = mujoco_module()
+    mj.mj_objectVelocity(model, data, mj.mjtObj.mjOBJ_BODY, model.body("platform").id, velocity, 0)
+    rates = [velocity[3], velocity[4], velocity[2]]
+    if kind == "car":
+        rates.append(data.qvel[model.jnt_dofadr[model.joint("steering_right").id]])
+    return np.array(rates)
