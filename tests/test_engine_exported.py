@@ -153,3 +153,18 @@ def test_off_by_default_and_an_unwritable_folder_is_named(tmp_path):
     blocker.write_text("")
     with pytest.raises(InputError, match="exported programs' folder .*file/exported"):
         exported.enable(blocker)
+
+
+def _with_callback(x):
+    return jax.pure_callback(lambda v: np.asarray(v) * 2.0, jax.ShapeDtypeStruct(x.shape, x.dtype), x)
+
+
+def test_a_program_that_cannot_be_exported_runs_as_plain_jit_and_is_not_tried_again(folder, monkeypatch):
+    program = exported.jit(_with_callback, name="a host callback")
+    np.testing.assert_array_equal(np.asarray(program(np.arange(3.0))), [0.0, 2.0, 4.0])
+    assert _stored(folder) == set() and len(list(folder.glob("*.plain"))) == 1
+    tried = []
+    monkeypatch.setattr(exported, "_export", lambda *args: tried.append(args))
+    later = exported.jit(_with_callback, name="a host callback")  # as a later process would
+    np.testing.assert_array_equal(np.asarray(later(np.arange(3.0))), [0.0, 2.0, 4.0])
+    assert tried == []

@@ -20,7 +20,8 @@ A stored program is found again only for the same key, the SHA-256 of
 - the source code of the installed mobman package, JAX's and jaxlib's versions and the backend,
 
 so any change of mobman, JAX, the robot or an option traces afresh. Calls with traced arguments (inside
-``jit``, ``grad``, ``vmap``) and any program whose export or serialization fails are plain ``jax.jit``; so is
+``jit``, ``grad``, ``vmap``) and any program whose export or serialization fails (a host callback, say: an
+empty ``KEY.plain`` file then tells later processes not to try again) are plain ``jax.jit``; so is
 every call while the cache is off (the default: the ``mobman`` command turns it on). The folder keeps at most
 :data:`MAX_BYTES`, the least recently written programs removed first.
 """
@@ -89,7 +90,7 @@ def jit(fn: Callable, static_argnums: tuple[int, ...] = (), name: str | None = N
         arrays = [i for i in range(len(args)) if i not in static_argnums]
         if any(isinstance(args[i], jax.core.Tracer) for i in arrays):
             return plain(*args)
-        shapes = tuple((np.shape(args[i]), np.result_type(args[i]).str) for i in arrays)
+        shapes = tuple((np.shape(args[i]), _dtype(args[i]).str) for i in arrays)
         statics = tuple(args[i] for i in static_argnums if i < len(args))
         try:
             program = programs.get((statics, shapes))
@@ -116,12 +117,18 @@ def _load_or_export(
     key = _key(name, statics, shapes)
     if key is None:
         return None
-    path = _folder / f"{key}.exported"
+    path, unexportable = _folder / f"{key}.exported", _folder / f"{key}.plain"
+    if unexportable.exists():
+        return None
     try:
         exported = jax.export.deserialize(bytearray(path.read_bytes()))
     except Exception:  # noqa: BLE001 - none stored yet, or a damaged file: exported afresh
         exported = _export(fn, statics, args, arrays)
         if exported is None:
+            try:
+                store(unexportable, b"", pattern="*.plain")  # later processes do not try again
+            except OSError:
+                pass
             return None
         try:
             store(path, exported.serialize())
@@ -139,11 +146,16 @@ def _export(fn: Callable, statics: dict[int, Any], args: tuple, arrays: list[int
             full[i] = s
         return fn(*full)
 
-    specs = [jax.ShapeDtypeStruct(np.shape(args[i]), np.result_type(args[i])) for i in arrays]
+    specs = [jax.ShapeDtypeStruct(np.shape(args[i]), _dtype(args[i])) for i in arrays]
     try:
         return jax.export.export(jax.jit(with_statics))(*specs)
     except Exception:  # noqa: BLE001 - a program that cannot be exported runs as plain jit
         return None
+
+
+def _dtype(x: Any) -> np.dtype:
+    """The dtype of an array argument (of what NumPy makes of a number or a list)."""
+    return np.dtype(x.dtype) if hasattr(x, "dtype") else np.result_type(x)
 
 
 def _key(name: str, statics: dict[int, Any], shapes: tuple) -> str | None:
