@@ -227,3 +227,96 @@ def test_a_spec_alpha_coordinate_out_of_range_names_the_field(tmp_path):
     path.write_text(re.sub(r"\[criterion\].*?(?=\[gains\])", blend, text, flags=re.DOTALL))
     with pytest.raises(MobmanError, match=r"criterion\.alpha\.coordinate: 99 out of range 0\.\.1"):
         spec.load(path)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (
+            lambda: __import__("mobman.studies.placement").studies.placement.place(None, [1.0, 0.0, 0.5]),
+            "robot must",
+        ),
+        (lambda: K.forward(None, np.zeros(6)), "robot must be a MobileManipulator, got NoneType"),
+        (
+            lambda: __import__("mobman.studies.placement").studies.placement.place_with_map(
+                ROBOT, None, [1, 0, 0]
+            ),
+            "reachability must be a ReachabilityMap, got NoneType",
+        ),
+        (
+            lambda: __import__("mobman.studies.store").studies.store.run(None, 1, {}, {}, store=5),
+            "store must be",
+        ),
+        (
+            lambda: __import__("mobman.studies.store").studies.store.run(None, 1, {}, {}, scheduler=123),
+            "scheduler",
+        ),
+    ],
+)
+def test_arguments_of_the_wrong_type_are_mobman_errors(call, message):
+    with pytest.raises(MobmanError, match=message):
+        call()
+
+
+def test_a_reachability_map_s_store_and_scheduler_are_checked_before_any_work(monkeypatch):
+    from mobman.studies import maps
+
+    monkeypatch.setattr(maps, "tool_positions", lambda *_: pytest.fail("worked before checking its options"))
+    for options, message in [
+        ({"store": 5}, "store must be a folder's path"),
+        ({"scheduler": 123}, "scheduler must"),
+    ]:
+        with pytest.raises(MobmanError, match=message):
+            maps.reachability_map(ROBOT, **options)
+
+
+@pytest.mark.parametrize("fn", [K.forward, K.jacobian, K.S, K.constraints])
+def test_complex_configurations_are_refused_not_cast(fn):
+    import jax.numpy as jnp
+
+    q = np.full(6, 0.3) + 1e-3j
+    for value in (q, jnp.asarray(q), list(q)):
+        with pytest.raises(MobmanError, match="must be real numbers, got complex"):
+            fn(ROBOT, value)
+
+
+def test_a_jacobian_whose_measures_overflow_is_refused_not_infinite():
+    for j in (np.diag([1e200, 1e200]), np.full((6, 6), 1e30)):
+        with pytest.raises(MobmanError, match="its measures would overflow float64"):
+            mp.measures(j)
+    big = np.diag([1e60, 2e60])  # within the bound: finite, and w, w2 by their closed forms
+    out = mp.measures(big)
+    assert float(out["yoshikawa"]) == pytest.approx(2e120) and float(
+        out["inverse_condition"]
+    ) == pytest.approx(0.5)
+
+
+def test_a_sweep_s_fixed_parameters_are_checked():
+    from mobman.studies.sweep import sweep
+
+    for fixed, message in [
+        ({"l2": math.nan}, "fixed: l2 must be finite"),
+        ({"l2": "a"}, "fixed: l2 must be a number"),
+    ]:
+        with pytest.raises(MobmanError, match=message):
+            sweep("bayle-planar", {"l1": [0.5]}, fixed=fixed, samples=10)
+
+
+def test_a_torque_function_returning_nan_stops_the_simulation_naming_the_time():
+    import jax.numpy as jnp
+
+    def nan_after(t, q, eta):
+        return jnp.where(t >= 0.05, jnp.nan, 0.0) * jnp.ones_like(eta)
+
+    with pytest.raises(MobmanError, match=r"torque_fn returned NaN or infinite torques at t = 0\.05 s"):
+        dyn.simulate(MODEL, np.zeros(9), np.zeros(8), nan_after, duration=0.1, dt=0.01)
+
+
+def test_a_qp_law_s_or_a_simulation_s_argument_of_the_wrong_type_is_a_mobman_error_naming_it():
+    from mobman.control import laws, simulate
+
+    with pytest.raises(MobmanError, match="regularization must be a finite number ≥ 1e-7, got '1e-4'"):
+        laws.WholeBodyQP(W=1.0, regularization="1e-4")
+    robot = robots.bayle_planar()
+    with pytest.raises(MobmanError, match="reference: a reference .*, got NoneType"):
+        simulate(robot, None, laws.BaylePseudoInverse(W=1.0), None, np.zeros(5), 0.1, 0.01)

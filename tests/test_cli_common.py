@@ -4,9 +4,7 @@ of a run that missed its goal; every bad input is a one-line MobmanError naming 
 
 from __future__ import annotations
 
-import io
 import math
-import os
 import shutil
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -148,39 +146,6 @@ def test_check_disk_gives_up_silently_when_the_file_system_cannot_be_asked(tmp_p
     common.check_disk(tmp_path, 10**18)
 
 
-# --- available_memory ------------------------------------------------------------------------------
-
-
-def test_available_memory_reads_mem_available_in_bytes(monkeypatch):
-    meminfo = "MemTotal:       16000000 kB\nMemFree:         1000 kB\nMemAvailable:    2048 kB\n"
-    monkeypatch.setattr(common, "open", lambda *a, **k: io.StringIO(meminfo), raising=False)
-    assert common.available_memory() == 2048 * 1024
-
-
-def test_available_memory_falls_back_to_the_free_pages(monkeypatch):
-    def no_proc(*args, **kwargs):
-        raise OSError("no /proc")
-
-    monkeypatch.setattr(common, "open", no_proc, raising=False)
-    pages = {"SC_AVPHYS_PAGES": 1000, "SC_PAGE_SIZE": 4096}
-    monkeypatch.setattr(os, "sysconf", lambda name: pages[name])
-    assert common.available_memory() == 4_096_000
-
-
-def test_available_memory_is_none_when_nothing_tells(monkeypatch):
-    monkeypatch.setattr(common, "open", lambda *a, **k: io.StringIO("MemTotal: 1 kB\n"), raising=False)
-
-    def no_sysconf(name):
-        raise ValueError(name)
-
-    monkeypatch.setattr(os, "sysconf", no_sysconf)
-    assert common.available_memory() is None
-
-
-def test_available_memory_of_this_machine_is_positive():
-    assert common.available_memory() > 0
-
-
 # --- not_reached -----------------------------------------------------------------------------------
 
 
@@ -219,7 +184,7 @@ def test_load_robot_reads_a_urdf_file_with_its_options(tmp_path):
 @pytest.mark.parametrize(
     ("name", "fragment"),
     [
-        ("robot.urdf", "a URDF file takes --tip, --base, --platform, --wheels and --lock"),
+        ("robot.urdf", "a URDF file takes --tip, --base, --platform, --wheels, --lock and --platform-option"),
         ("robot.toml", "edit the robot file instead"),
     ],
 )

@@ -284,6 +284,49 @@ def test_a_run_interrupted_while_writing_its_folder_leaves_the_old_results(tmp_p
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run", "spec.toml"]
 
 
+RUNNING = (
+    DUMP_ON_USR1
+    + """
+import atexit, sys
+import mobman.control.simulation as simulation
+from mobman.cli import main
+
+compiled, steps = simulation._run, []
+
+def counted(*args):
+    out = compiled(*args)
+    steps.append(args[3])  # the steps of this compiled call
+    if len(steps) == 1:
+        print("running", flush=True)
+    return out
+
+simulation._run = counted
+atexit.register(lambda: print("computed", sum(steps), flush=True))
+main(sys.argv[1:])
+"""
+)
+
+
+def test_ctrl_c_stops_a_long_simulation_within_seconds(tmp_path):
+    """A real SIGINT during a QP simulation of minutes (100,001 steps, computed in calls of a second at most)
+    ends it within seconds, with exit 130 and one line, leaving no results folder: the steps computed by
+    then are a few calls' worth, not the whole run."""
+    import time
+
+    out = tmp_path / "run"
+    target = ["manus-platform", "--target", "0.5,0.2,0.4", "--duration", "100", "--dt", "0.001"]
+    args = [sys.executable, "-c", RUNNING, "simulate", *target, "--out", str(out)]
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    process = subprocess.Popen(args, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert process.stdout.readline().strip() == "running"
+    sent = time.monotonic()
+    process.send_signal(signal.SIGINT)
+    stdout, err = communicate_or_dump(process, timeout=30.0)
+    assert process.returncode == 130 and one_line(err).startswith("interrupted: mobman simulate")
+    assert time.monotonic() - sent < 10.0 and not out.exists()
+    assert int(stdout.split()[-1]) < 10_000
+
+
 def test_every_exit_status_is_documented_in_the_readme():
     from mobman.cli.app import EXIT_CODES
 

@@ -101,7 +101,7 @@ def test_the_command_warns_of_an_unusable_folder_in_one_line_and_still_runs(tmp_
     blocker = tmp_path / "a file"
     blocker.write_text("")
     env = _environment(tmp_path, MOBMAN_CACHE_DIR=str(blocker / "xla"))
-    code = "from mobman.cli import main; main(['analyze', 'bayle-planar', '--json'])"
+    code = "from mobman.cli import main; main(['analyze', 'bayle-planar', '--q', '0,0,0,0.3,1.2', '--json'])"
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=180)
     assert out.returncode == 0, out.stderr[-3000:]
     assert out.stderr.strip().splitlines() == [
@@ -113,7 +113,7 @@ def test_the_command_warns_of_an_unusable_folder_in_one_line_and_still_runs(tmp_
 
 def test_the_command_keeps_its_programs_in_the_default_folder(tmp_path):
     env = _environment(tmp_path)
-    code = "from mobman.cli import main; main(['analyze', 'bayle-planar', '--json'])"
+    code = "from mobman.cli import main; main(['analyze', 'bayle-planar', '--q', '0,0,0,0.3,1.2', '--json'])"
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=180)
     assert out.returncode == 0, out.stderr[-3000:]
     assert _entries(tmp_path / "xdg" / "mobman" / "xla")

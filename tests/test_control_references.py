@@ -70,3 +70,23 @@ def test_ellipse_geometry():
 def test_reference_errors(bad):
     with pytest.raises(ModelError):
         bad()
+
+
+@pytest.mark.parametrize(
+    ("make", "field"),
+    [
+        (lambda t: references.Ellipse((0.0, 0.0), (1.0, 0.5), period=t), "period"),
+        (lambda t: references.Line((0.0, 0.0), (1.0, 0.0), duration=t), "duration"),
+        (
+            lambda t: references.Polyline(((0.0, 0.0), (1.0, 0.0), (1.0, 1.0)), durations=(1.0, t)),
+            "durations",
+        ),
+    ],
+)
+def test_a_reference_faster_than_a_millisecond_is_refused_naming_its_field(make, field):
+    """A period or duration of 1e-300 s asked for velocities of 1e300 (and below float64's range, infinite)."""
+    for t in (1e-300, 1e-4):
+        with pytest.raises(ModelError, match=f"{field} must be at least 0.001 s"):
+            make(t)
+    velocity = make(1e-3)(0.0)[1]  # the shortest accepted: finite
+    assert np.all(np.isfinite(np.asarray(velocity)))

@@ -192,6 +192,27 @@ def test_progress_chunks_continue_the_run_exactly(integrator):
     np.testing.assert_allclose(chunked.eta, whole.eta, rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("batch", ["one run", "initial configurations", "laws"])
+def test_calls_of_a_few_samples_continue_every_run_exactly(batch, monkeypatch):
+    """A run computed in compiled calls of at most 32 samples (so that Ctrl-C is answered between calls) equals
+    the run computed in one call: one run, a batch of initial configurations, and a batch of laws from one
+    q0, where each law continues from its own state."""
+    from mobman.control import simulation
+
+    xi0 = np.asarray(kinematics.forward(ROBOT, Q0, TASK))
+    line = references.Line(xi0, xi0 + [0.3, 0.2], 0.5)
+    law = bayle(W=np.array([2.0, 3.0]) if batch == "laws" else 2.0)
+    q0 = np.stack([Q0, Q0 + [0.1, 0, 0.2, 0, 0.1]]) if batch == "initial configurations" else Q0
+    monkeypatch.setattr(simulation, "MIN_SCAN_STEPS", 1)
+    monkeypatch.setattr(simulation, "SCAN_SAMPLES", 10**9)
+    whole = simulate(ROBOT, TASK, law, line, q0, 0.5, DT)
+    monkeypatch.setattr(simulation, "SCAN_SAMPLES", 32)
+    calls = simulate(ROBOT, TASK, law, line, q0, 0.5, DT)
+    np.testing.assert_allclose(calls.q, whole.q, rtol=0, atol=1e-13)
+    if batch != "one run":
+        assert not np.allclose(whole.q[0], whole.q[1])
+
+
 def test_a_batch_of_initial_configurations_is_shared_between_threads(monkeypatch):
     """Nine runs on three workers (shares of 5, the second moved back to start at run 4): every run as when
     simulated alone, with progress chunks."""

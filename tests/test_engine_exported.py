@@ -7,7 +7,6 @@ from __future__ import annotations
 import dataclasses
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import jax
@@ -69,34 +68,46 @@ def test_another_robot_option_or_shape_is_another_program(folder):
     assert len(_stored(folder)) == count + 2
 
 
-def test_a_later_process_reads_the_program_without_tracing(folder):
-    robot = robots.bayle_planar()
+LATER_PROCESS = """
+import sys
+import numpy as np
+from pathlib import Path
+from mobman import kinematics
+from mobman.engine import exported
+from mobman.model import robots, arm
+exported.enable(Path(sys.argv[1]))
+traced = []
+original = arm.Arm.link_poses
+def spy(self, *args, **kwargs):
+    traced.append(1)
+    return original(self, *args, **kwargs)
+arm.Arm.link_poses = spy
+q = np.array([[0.3, -0.2, np.pi / 2, 0.4, -1.1]])
+jbar = kinematics.reduced_jacobian(robots.bayle_planar(), q)
+print(len(traced))
+print(repr(np.asarray(jbar).tolist()))
+"""
+
+
+def test_a_later_process_reads_the_program_without_tracing(tmp_path):
+    """Two fresh processes (the test's own may have registered test kernels): the first traces and keeps
+    the program, the second reads it back without tracing the kinematics, with the same values."""
+
+    def run() -> tuple[str, str]:
+        args = [sys.executable, "-c", LATER_PROCESS, str(tmp_path)]
+        out = subprocess.run(args, capture_output=True, text=True, check=True)
+        traces, values = out.stdout.strip().splitlines()
+        return traces, values
+
+    first_traces, first = run()
+    stored = _stored(tmp_path / "exported")
+    assert first_traces != "0" and len(stored) == 1
+    traces, again = run()
+    assert traces == "0"  # the kinematics were never traced: the program came from the disk
+    assert again == first and _stored(tmp_path / "exported") == stored
     q = np.array([[0.3, -0.2, np.pi / 2, 0.4, -1.1]])
-    expected = np.asarray(kinematics.reduced_jacobian(robot, q))
-    stored = _stored(folder)
-    script = textwrap.dedent(
-        f"""
-        import numpy as np
-        from mobman import kinematics
-        from mobman.engine import exported
-        from mobman.model import robots, arm
-        exported.enable({str(folder.parent)!r} and __import__("pathlib").Path({str(folder.parent)!r}))
-        traced = []
-        original = arm.Arm.link_poses
-        def spy(self, *args, **kwargs):
-            traced.append(1)
-            return original(self, *args, **kwargs)
-        arm.Arm.link_poses = spy
-        jbar = kinematics.reduced_jacobian(robots.bayle_planar(), np.array({q.tolist()!r}))
-        print(len(traced))
-        print(repr(np.asarray(jbar).tolist()))
-        """
-    )
-    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
-    traces, values = run.stdout.strip().splitlines()
-    assert traces == "0", run.stderr  # the kinematics were never traced: the program came from the disk
-    np.testing.assert_array_equal(np.array(eval(values)), expected)
-    assert _stored(folder) == stored
+    expected = np.asarray(kinematics.reduced_jacobian(robots.bayle_planar(), q))  # this process: plain jit
+    np.testing.assert_allclose(np.array(eval(again)), expected, rtol=0, atol=1e-15)
 
 
 def test_a_damaged_file_is_exported_afresh(folder):

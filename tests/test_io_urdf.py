@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import logging
 import math
+import re
 import warnings
 
 import numpy as np
@@ -16,7 +17,7 @@ from mobman import dynamics as dyn
 from mobman import kinematics as K
 from mobman import redundancy as R
 from mobman.cli import main
-from mobman.errors import InputError, ModelError
+from mobman.errors import InputError, MobmanError, ModelError
 from mobman.io.real_robots import REAL_ROBOTS, urdf_model
 from mobman.io.urdf import UrdfWarning, inspect_urdf, load_urdf, read_urdf, urdf_tips, write_urdf
 from mobman.model import robots
@@ -436,8 +437,11 @@ def _virtual_base(tmp_path) -> str:
         for name, kind, axis, parent, child in [
             ("joint_x", "prismatic", "1 0 0", "world", "x_link"),
             ("joint_y", "prismatic", "0 1 0", "x_link", "y_link"),
-            ("joint_rz", "revolute", "0 0 1", "y_link", "base_footprint"),
         ]
+    )
+    virtual += (
+        '<joint name="joint_rz" type="revolute"><parent link="y_link"/><child link="base_footprint"/>'
+        '<axis xyz="0 0 1"/><limit lower="-10" upper="10" velocity="1" effort="1"/></joint>'
     )
     path = tmp_path / "export.urdf"
     path.write_text(
@@ -541,3 +545,119 @@ def test_a_mimic_joint_of_an_arm_coordinate_is_said_or_refused(tmp_path):
         ModelError, match="'torso_lift_joint' on the chain to 'head' mimics 'arm_lift_joint'.*lock"
     ):
         read_urdf(path, tip=["hand", "head"], base="base_link")
+
+
+# --- files that lie: one line naming the file and what is wrong ---------------------------------------
+
+
+def _edited(tmp_path, old: str, new: str, name: str = "lying.urdf"):
+    path = _urdf(tmp_path)
+    text = path.read_text()
+    assert text.count(old) >= 1
+    (tmp_path / name).write_text(text.replace(old, new, 1))
+    return tmp_path / name
+
+
+LIES = {
+    "velocity NaN": ('velocity="1.5"', 'velocity="nan"', "joint 'j1': limit velocity is NaN"),
+    "velocity < 0": ('velocity="1.5"', 'velocity="-1"', "joint 'j1': limit velocity must be ≥ 0"),
+    "effort < 0": ('effort="20"', 'effort="-3"', "joint 'j1': limit effort must be ≥ 0"),
+    "mass < 0": ('<mass value="2"/>', '<mass value="-2"/>', "link 'link1': mass must be a finite number ≥ 0"),
+    "link twice": ('<link name="tool">', '<link name="link1">', "link names used twice: 'link1'"),
+    "joint twice": ('name="j2"', 'name="j1"', "joint names used twice: 'j1'"),
+    "origin NaN": ('<origin xyz="0 0 0.2"', '<origin xyz="nan 0 0.2"', r"joint 'j2': origin \(xyz, rpy\)"),
+    "two parents": (
+        "</robot>",
+        '<joint name="back" type="fixed"><parent link="link2"/><child link="link1"/></joint></robot>',
+        "link 'link1' is the child of two joints, 'j1' and 'back'",
+    ),
+    "cycle": (
+        '<parent link="base_link"/><child link="link1"/>',
+        '<parent link="link2"/><child link="link1"/>',
+        r"cycle, link 'link1' is its own ancestor \(link1 → link2 → link1\)",
+    ),
+    "mesh outside": (
+        '<box size="0.1 0.1 0.2"/>',
+        '<mesh filename="file:///etc/passwd"/>',
+        "mesh 'file:///etc/passwd' is /etc/passwd, not a mesh file",
+    ),
+    "wheel mesh outside": (
+        '<cylinder radius="0.1" length="0.04"/>',
+        '<mesh filename="file:///etc/passwd"/>',
+        "link 'right_wheel': mesh 'file:///etc/passwd' is /etc/passwd, not a mesh file",
+    ),
+}
+
+
+@pytest.mark.parametrize("lie", list(LIES))
+def test_a_file_that_lies_is_refused_naming_the_file_and_what_is_wrong(tmp_path, lie):
+    old, new, message = LIES[lie]
+    path = _edited(tmp_path, old, new)
+    with pytest.raises(MobmanError) as info:
+        load_urdf(path, tip="tool")
+    text = str(info.value)
+    assert "\n" not in text
+    assert re.search(message, text), text
+    assert text.startswith(f"{path}: "), text
+
+
+def test_a_truncated_file_is_not_repaired_and_yourdfpy_says_nothing(tmp_path, caplog):
+    text = _urdf(tmp_path).read_text()
+    path = tmp_path / "truncated.urdf"
+    path.write_text(text[: 2 * len(text) // 3])
+    with caplog.at_level(logging.DEBUG), pytest.raises(InputError, match=rf"{path}: not well-formed XML \("):
+        load_urdf(path, tip="tool")
+    assert not [r for r in caplog.records if r.name.startswith("yourdfpy")]
+
+
+def test_a_mesh_is_a_mesh_file_in_the_robot_s_folder_or_package(tmp_path):
+    package = tmp_path / "robot_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "meshes").mkdir()
+    (package / "meshes" / "body.stl").write_bytes(b"solid body\nendsolid body\n")
+    (package / "meshes" / "notes.txt").write_text("not a mesh")
+    (tmp_path / "outside.stl").write_bytes(b"solid x\nendsolid x\n")
+
+    def visual(filename: str):
+        mesh = f'<visual><geometry><mesh filename="{filename}"/></geometry></visual>'
+        return read_urdf(_urdf(package / "urdf", mesh=mesh), tip="tool").robot.platform_visuals
+
+    found = visual("package://robot_description/meshes/body.stl")
+    assert [v.filename for v in found] == [str(package / "meshes" / "body.stl")]
+    assert visual(str(tmp_path / "outside.stl"))[0].filename == str(
+        tmp_path / "outside.stl"
+    )  # absolute: as named
+    with pytest.raises(InputError, match=r"mesh '\.\./\.\./outside\.stl' is .*outside the robot's folder"):
+        visual("../../outside.stl")
+    with pytest.raises(InputError, match=r"outside the robot's folder .*robot_description"):
+        visual("package://robot_description/meshes/../../../outside.stl")
+    with pytest.raises(
+        InputError, match=r"mesh 'package://robot_description/\.\./outside\.stl' names no file"
+    ):
+        visual("package://robot_description/../outside.stl")  # yourdfpy's resolver fails on it
+    with pytest.raises(InputError, match=r"notes\.txt, not a mesh file \(\.stl, "):
+        visual("package://robot_description/meshes/notes.txt")
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"tip": 5}, "tip: a link's name or a list of them, got 5"),
+        ({"tip": ["tool", 5]}, "tip: a link's name or a list of them, got 5"),
+        ({"tip": "tool", "locked": {"j1": "abc"}}, "locked: j1 must be a number"),
+        ({"tip": "tool", "locked": ["j1"]}, "locked: a mapping of joint names to values"),
+    ],
+)
+def test_options_of_the_wrong_type_are_model_errors(tmp_path, kwargs, message):
+    with pytest.raises(ModelError, match=re.escape(message)):
+        load_urdf(_urdf(tmp_path), **kwargs)
+
+
+def test_a_path_of_bytes_is_an_input_error(tmp_path):
+    with pytest.raises(InputError, match="path must be a URDF file's path"):
+        load_urdf(str(_urdf(tmp_path)).encode(), tip="tool")
+
+
+def test_a_velocity_limit_of_zero_is_no_limit_as_urdf_writers_mean_it(tmp_path):
+    robot = load_urdf(_edited(tmp_path, 'velocity="1.5"', 'velocity="0"'), tip="tool")
+    assert robot.arms[0].joints[0].velocity_max is None

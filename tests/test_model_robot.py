@@ -130,3 +130,31 @@ def test_q_dot_is_S_times_eta_over_the_whole_range(name):
     s = np.asarray(K.S(robot, q))
     for qi, ei, si in zip(q, eta, s):
         np.testing.assert_allclose(np.asarray(robot.q_dot(qi, ei)), si @ ei, rtol=0, atol=1e-14)
+
+
+def test_a_robot_of_more_joints_than_the_budget_is_refused_naming_the_limit():
+    from mobman.model.robot import MAX_JOINTS
+
+    arm = robots.planar_arm((0.1,) * (MAX_JOINTS + 1))
+    with pytest.raises(mobman.ModelError, match=f"{MAX_JOINTS + 1} arm joints, more than the {MAX_JOINTS}"):
+        MobileManipulator(DifferentialDrive(), (arm,))
+    assert (
+        MobileManipulator(DifferentialDrive(), (robots.planar_arm((0.1,) * MAX_JOINTS),)).n_q
+        == MAX_JOINTS + 3
+    )
+
+
+def test_a_500_joint_urdf_is_refused_in_one_line_before_any_work(tmp_path, capsys):
+    from cli_runs import run_cli
+
+    joints = "".join(
+        f'<link name="l{i + 1}"/><joint name="j{i}" type="revolute"><parent link="l{i}"/><child link="l{i + 1}"/>'
+        f'<origin xyz="0.01 0 0"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
+        for i in range(500)
+    )
+    path = tmp_path / "long.urdf"
+    path.write_text(f'<?xml version="1.0"?><robot name="long"><link name="l0"/>{joints}</robot>')
+    code, _, err = run_cli(
+        ["analyze", str(path), "--tip", "l500", "--base", "l0", "--platform", "omnidirectional"], capsys
+    )
+    assert code == 2 and err.count("\n") == 1 and "500 arm joints, more than the 64" in err

@@ -124,3 +124,18 @@ def test_piecewise_constant_controls_plan_to_machine_precision():
     assert result.converged and result.final_error <= 1e-12
     fine = PlanningSetting(tchon_car_rtr(), PiecewiseConstant(5), steps=4 * setting.steps)
     assert np.abs(np.asarray(endpoint(fine, result.z, q0)) - [0.0, 0.0, 1.0]).max() < 1e-12
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (dict(step=1e300), r"step Δθ must be a number in \(0, 10\]"),
+        (dict(gamma=1e300), r"gamma must be a number in \(0, 1000\]"),
+        (dict(gamma=float("nan")), r"gamma must be a number in \(0, 1000\]"),
+    ],
+)
+def test_a_step_or_rate_that_can_only_overflow_is_refused(options, message):
+    """Δθ or γ of 1e300 made the iteration's steps overflow (NaN in the output, exit 3): refused up front."""
+    with pytest.raises(InputError, match=message):
+        Options("pinv", **options)
+    Options("pinv", step=10.0, gamma=1e3)  # the bounds themselves are accepted

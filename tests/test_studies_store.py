@@ -144,7 +144,18 @@ def test_an_unreachable_scheduler_is_one_error(monkeypatch):
         store.run(rows, 4, COLUMNS, DEFINITION, scheduler="tcp://127.0.0.1:9")
 
 
-def test_a_local_dask_cluster_computes_the_same_study_into_the_store(tmp_path):
+def test_a_local_dask_cluster_computes_the_same_study_into_the_store(tmp_path, monkeypatch):
+    """… on a cluster listening on the loopback address only (Dask's protocol unpickles what it is sent)."""
+    import distributed
+
+    addresses = []
+
+    class Recorded(distributed.LocalCluster):
+        def close(self, *args, **kwargs):
+            addresses.extend([self.scheduler_address, *(w.address for w in self.workers.values())])
+            return super().close(*args, **kwargs)
+
+    monkeypatch.setattr(distributed, "LocalCluster", Recorded)
     path = tmp_path / "s.zarr"
     compute = partial(rows, scale=2.0)
     first = Recorder(fail_at=4)
@@ -162,3 +173,4 @@ def test_a_local_dask_cluster_computes_the_same_study_into_the_store(tmp_path):
     )
     check(study, 10)
     assert seen == [2, 3, 4, 5]  # the two chunks kept, then the three computed on the cluster
+    assert len(addresses) == 3 and all(a.startswith("tcp://127.0.0.1:") for a in addresses), addresses

@@ -1,6 +1,6 @@
 """Validation of scalar parameters: each check returns the value as a float or raises
-:class:`~mobman.errors.ModelError` naming the owner, the field and the allowed range; and
-:func:`all_finite`, the finiteness test of the public functions' array arguments."""
+:class:`~mobman.errors.ModelError` naming the owner, the field and the allowed range; and, for the public
+functions' array arguments, :func:`real_array` (no complex numbers) and :func:`all_finite`."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-from mobman.errors import ModelError
+from mobman.errors import InputError, ModelError
 
 
 def all_finite(arr: np.ndarray) -> bool:
@@ -21,6 +21,16 @@ def all_finite(arr: np.ndarray) -> bool:
         values = arr.ravel().tolist()
         return math.isfinite(sum(values)) or all(map(math.isfinite, values))
     return bool(np.isfinite(arr).all())
+
+
+def real_array(value: npt.ArrayLike, name: str) -> np.ndarray:
+    """``value`` as a float64 NumPy array; an :class:`~mobman.errors.InputError` naming ``name`` where it holds
+    complex numbers (NumPy's cast would drop their imaginary parts without a word). What is not numbers
+    raises NumPy's TypeError or ValueError, for the caller's message."""
+    arr = np.asarray(value)
+    if arr.dtype.kind == "c":
+        raise InputError(f"{name} must be real numbers, got complex ones ({arr.dtype})")
+    return arr.astype(float, copy=False)
 
 
 def finite(value: float, name: str, owner: str) -> float:

@@ -32,9 +32,16 @@ from mobman.model.robot import Frames, MobileManipulator
 from mobman.model.tasks import Task
 
 
+def checked_robot(robot: object) -> MobileManipulator:
+    """``robot`` itself, or an InputError when it is not a :class:`mobman.MobileManipulator`."""
+    if not isinstance(robot, MobileManipulator):
+        raise InputError(f"robot must be a MobileManipulator, got {type(robot).__name__}")
+    return robot
+
+
 def resolve_task(robot: MobileManipulator, task: Task | None) -> Task:
     """The task to evaluate: ``task``, or the robot's own when None, checked against the robot."""
-    task = robot.task if task is None else task
+    task = checked_robot(robot).task if task is None else task
     task.check(robot)
     return task
 
@@ -59,12 +66,12 @@ def validated_q(robot: MobileManipulator, q: npt.ArrayLike) -> np.ndarray | jax.
     """Validated configurations. NumPy arrays go to the compiled functions as they are; a ``jax.Array`` is
     checked on its device and passed on without a copy to the host."""
     if type(q) is np.ndarray:  # the common case first (a call for one configuration is mostly overhead)
-        return robot.validate_q(q)
+        return checked_robot(robot).validate_q(q)
     if isinstance(q, jax.Array) and traced(q):
         return q
     if isinstance(q, jax.Array):
-        return robot.validate_q_on_device(q)
-    return robot.validate_q(q)
+        return checked_robot(robot).validate_q_on_device(q)
+    return checked_robot(robot).validate_q(q)
 
 
 def _robot_q(robot: MobileManipulator, q: npt.ArrayLike) -> tuple:

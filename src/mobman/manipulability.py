@@ -29,6 +29,7 @@ values of the ones involved (w5 and w2 at σ_1 = σ_r, which is where w5 = 0, ge
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache, reduce
 from typing import Any, Literal
 
@@ -38,6 +39,7 @@ import numpy as np
 import numpy.typing as npt
 
 from mobman import kinematics as K
+from mobman.checks import real_array
 from mobman.engine.batched import batched, traced
 from mobman.errors import InputError, ModelError, SingularConfigurationError
 from mobman.model import spatial, spectra
@@ -118,19 +120,31 @@ def _as_jacobian(j: npt.ArrayLike) -> jnp.ndarray:
         arr = j
     else:
         try:
-            arr = jnp.asarray(np.asarray(j, dtype=float))
+            arr = jnp.asarray(real_array(j, "a Jacobian"))
+        except InputError:
+            raise
         except (TypeError, ValueError):
             raise InputError(f"a Jacobian must be an array of numbers, got {type(j).__name__}") from None
     if arr.ndim < 2 or 0 in arr.shape[-2:]:
         raise InputError(f"a Jacobian must have shape (..., m, k) with m, k ≥ 1, got shape {arr.shape}")
-    if not bool(_all_finite(arr)):
-        bad = np.argwhere(~np.isfinite(np.asarray(arr)).all(axis=(-2, -1)))
+    # σ_max ≤ √(m k) max|J| and w ≤ σ_max^m: below this bound J Jᵀ and its determinant stay finite
+    m, k = arr.shape[-2:]
+    largest = (np.finfo(float).max / 4.0) ** (1.0 / (2 * m)) / math.sqrt(m * k)
+    if not bool(_all_within(arr, largest)):
+        host = np.asarray(arr)
+        if np.isfinite(host).all():
+            raise InputError(
+                f"the Jacobian's entries reach {np.abs(host).max():.3g}, beyond {largest:.3g} for a {m} × {k} "
+                "matrix: its measures would overflow float64 (give it in other units)"
+            )
+        bad = np.argwhere(~np.isfinite(host).all(axis=(-2, -1)))
         where = f" at batch index {tuple(int(i) for i in bad[0])}" if bad.size else ""
         raise InputError(f"the Jacobian holds NaN or infinite entries{where}: its measures are undefined")
     return arr
 
 
 _all_finite = jax.jit(lambda a: jnp.all(jnp.isfinite(a)))
+_all_within = jax.jit(lambda a, bound: jnp.all(jnp.abs(a) <= bound))  # False for NaN too
 
 
 def _jacobian_argument(j: npt.ArrayLike) -> tuple:

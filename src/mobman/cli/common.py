@@ -8,6 +8,7 @@ import csv
 import os
 import shutil
 import sys
+import tempfile
 import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import replace
@@ -21,6 +22,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
 from mobman.cli.app import INTERRUPTED, NOT_REACHED
+from mobman.engine.memory import available_memory, size
 from mobman.errors import InputError
 from mobman.io.numbers import parse_number, parse_vector
 from mobman.io.spec import read_text
@@ -158,21 +160,6 @@ BYTES_PER_VALUE = 64
 of ``results.json``."""
 
 
-def available_memory() -> int | None:
-    """Bytes of memory available to a new run (MemAvailable of /proc/meminfo, else the free physical pages)."""
-    try:
-        with open("/proc/meminfo", encoding="ascii") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, OSError, ValueError):
-        return None
-
-
 def check_steps(
     steps: int, values_per_step: int, field: str, max_steps: int = MAX_STEPS, held: int | None = None
 ) -> None:
@@ -180,7 +167,7 @@ def check_steps(
     exceeds ``max_steps`` (InputError naming ``--max-steps``) or the machine's available memory; ``held``:
     the steps in memory at once for a run computed in pieces (default all of them)."""
     need = (steps if held is None else held) * values_per_step * BYTES_PER_VALUE
-    estimate = f"{steps:.3g} steps, about {_size(need)} of memory"
+    estimate = f"{steps:.3g} steps, about {size(need)} of memory"
     if steps > max_steps:
         raise InputError(
             f"{field}: {estimate}: more than the limit of {max_steps:.3g} steps; use a larger dt or a shorter "
@@ -189,7 +176,7 @@ def check_steps(
     available = available_memory()
     if available is not None and need > available:
         raise InputError(
-            f"{field}: {estimate}: more than the {_size(available)} available; use a larger dt or a shorter "
+            f"{field}: {estimate}: more than the {size(available)} available; use a larger dt or a shorter "
             "duration"
         )
 
@@ -206,17 +193,27 @@ def check_disk(out: Path, need: int, field: str = "--out") -> None:
         return
     if need > free:
         raise InputError(
-            f"{field} {out}: the results take about {_size(need)}, more than the {_size(free)} free there; "
+            f"{field} {out}: the results take about {size(need)}, more than the {size(free)} free there; "
             "use a larger dt, a shorter duration or another folder"
         )
 
 
-def _size(n: float) -> str:
-    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
-        if n < 1024 or unit == "PiB":
-            return f"{n:.3g} {unit}"
-        n /= 1024
-    return f"{n:.3g} EiB"
+def check_figure(figure: Path | None, field: str = "--figure") -> None:
+    """Refuse, before any work, a figure file that is not a .png or whose folder cannot be written into
+    (InputError naming ``field``)."""
+    if figure is None:
+        return
+    if figure.suffix.lower() != ".png":
+        raise InputError(f"{field} must name a .png file, got {str(figure)!r}")
+    if figure.is_dir():
+        raise InputError(f"{field} {figure}: is a folder; name a .png file")
+    folder = Path(os.path.abspath(figure)).parent
+    if not folder.is_dir():
+        raise InputError(f"{field} {figure}: the folder {folder} does not exist")
+    try:  # the figure is written through a temporary sibling: probe that folder, leaving nothing behind
+        os.rmdir(tempfile.mkdtemp(dir=folder, prefix=".mobman-probe-"))
+    except OSError as exc:
+        raise InputError(f"{field} {figure}: cannot write into {folder} ({exc.strerror or exc})") from None
 
 
 def not_reached(command: str, reason: str) -> None:

@@ -33,6 +33,18 @@ from mobman.model.spatial import matmul, matvec
 
 TIMINGS = ("linear", "cubic", "quintic")
 
+MIN_TIME = 1e-3
+"""Shortest duration or period of a reference (s): a shorter one asks for velocities no robot has (a line's
+v = Δ/duration, an ellipse's 2π a/period) and, below float64's range, for infinite ones."""
+
+
+def time_scale(value: float, name: str, owner: str) -> float:
+    """``value`` as a duration or period of at least :data:`MIN_TIME` seconds (one-line ModelError)."""
+    number = checks.positive(value, name, owner)
+    if number < MIN_TIME:
+        raise ModelError(f"{owner}: {name} must be at least {MIN_TIME:g} s, got {value!r}")
+    return number
+
 
 def _vector(value: npt.ArrayLike, name: str, owner: str, size: int | None = None) -> np.ndarray:
     arr = np.atleast_1d(np.asarray(value, dtype=float))
@@ -89,7 +101,7 @@ class Line(Reference):
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", _vector(self.start, "start", "Line"))
         object.__setattr__(self, "end", _vector(self.end, "end", "Line", len(self.start)))
-        object.__setattr__(self, "duration", np.float64(checks.positive(self.duration, "duration", "Line")))
+        object.__setattr__(self, "duration", np.float64(time_scale(self.duration, "duration", "Line")))
         _check_timing(self.timing, "Line")
 
     @property
@@ -130,7 +142,7 @@ class Ellipse(Reference):
         if min(axes) <= 0:
             raise ModelError(f"Ellipse: semi_axes must be > 0 m, got {axes}")
         object.__setattr__(self, "semi_axes", axes)
-        object.__setattr__(self, "period", np.float64(checks.positive(self.period, "period", "Ellipse")))
+        object.__setattr__(self, "period", np.float64(time_scale(self.period, "period", "Ellipse")))
         object.__setattr__(self, "phase", _vector(self.phase, "phase", "Ellipse", 1)[0])
         object.__setattr__(self, "rotation", _vector(self.rotation, "rotation", "Ellipse", 1)[0])
         if self.angle is not None:
@@ -179,7 +191,7 @@ class Polyline(Reference):
             raise ModelError("Polyline: points must be finite")
         durations = _vector(self.durations, "durations", "Polyline", pts.shape[0] - 1)
         for d in durations:
-            checks.positive(d, "durations", "Polyline")
+            time_scale(d, "durations", "Polyline")
         _check_timing(self.timing, "Polyline")
         object.__setattr__(self, "points", pts)
         object.__setattr__(self, "durations", durations)
@@ -282,7 +294,7 @@ class PoseReference(Reference):
             object.__setattr__(self, name, (position, _orientation(pose[1], f"{name} orientation", owner)))
         step = so3.log(self.end[1] @ self.start[1].T)
         object.__setattr__(self, "rotation_step", np.asarray(step))
-        object.__setattr__(self, "duration", np.float64(checks.positive(self.duration, "duration", owner)))
+        object.__setattr__(self, "duration", np.float64(time_scale(self.duration, "duration", owner)))
         _check_timing(self.timing, owner)
 
     @property
@@ -363,6 +375,7 @@ __all__ = [
     "Ellipse",
     "FunctionReference",
     "Line",
+    "MIN_TIME",
     "Polyline",
     "PoseFunctionReference",
     "PoseReference",
@@ -370,5 +383,6 @@ __all__ = [
     "Stack",
     "TIMINGS",
     "stack",
+    "time_scale",
     "timing_law",
 ]

@@ -62,7 +62,8 @@ class SimulationResult:
     (``law.controlled_task(task)``: the task stacked with the extra rows for
     :class:`~mobman.control.laws.AugmentedJacobian`); ``measures`` name → values; ``info`` the fields of the
     law's :class:`~mobman.control.laws.LawStep` per step but η, ``saturated`` and ``damped`` (``damping`` λ²,
-    ``sigma_min``, ``limit_ratio``, ``P``, ``det``, …).
+    ``sigma_min``, ``limit_ratio``, ``P``, ``det``, …); ``law`` the law of an unbatched run (None for a batch
+    of laws).
     """
 
     t: np.ndarray
@@ -77,6 +78,7 @@ class SimulationResult:
     info: dict[str, np.ndarray] = field(default_factory=dict)
     robot: MobileManipulator | None = None
     task: Task | None = None
+    law: Law | None = None
 
     @property
     def dt(self) -> float:
@@ -304,6 +306,10 @@ def _setup(
         raise InputError("law: give one law or a non-empty list of laws")
     if not all(isinstance(one, Law) for one in laws):
         raise InputError("law: a control law (mobman.control.laws) or a list of them")
+    if not isinstance(reference, Reference):
+        raise InputError(
+            f"reference: a reference (mobman.control.references), got {type(reference).__name__}"
+        )
     ctask = laws[0].controlled_task(task)
     if reference.dim != ctask.dim:
         raise ModelError(
@@ -333,30 +339,61 @@ def _setup(
     )
 
 
+SCAN_SAMPLES = 1024
+MIN_SCAN_STEPS = 16
+"""Most samples (steps times the runs of a batch, at least one step) of one compiled call. A compiled loop runs
+to its end before Python sees a signal, so a run is computed in calls of this size and Ctrl-C stops it within
+one call: TIAGo's QP law takes about 1.5 ms a step, 0.4 s a call (the cost of the calls on a cheap law:
+``benchmarks/control.py``)."""
+
+
+def _scan_steps(setup: _Setup, chunk: int) -> int:
+    """Steps of each compiled call computing pieces of ``chunk`` samples: the fewest calls of at most
+    :data:`SCAN_SAMPLES` samples each, of equal length (the last call runs past the piece by fewer steps than
+    there are calls)."""
+    runs = int(np.prod(setup.q0.shape[:-1])) if setup.batch_q else 1
+    if setup.batch_law:
+        runs = max(runs, int(jax.tree.leaves(setup.law)[0].shape[0]))
+    most = max(MIN_SCAN_STEPS, SCAN_SAMPLES // runs)
+    return -(-chunk // -(-chunk // most))
+
+
 def _pieces(setup: _Setup, chunk: int) -> Iterator[tuple[int, dict]]:
-    """The run as consecutive pieces (k0, recorded arrays of samples k0 … k0 + chunk − 1, NumPy): each piece
-    one call of the same compiled scan of ``chunk`` steps, continuing from the state the previous one ended
-    in at step index k0 (the law and the reference are functions of (q, t) only, so a piece is the
-    whole run's samples; the last piece is cut at sample n − 1)."""
+    """The run as consecutive pieces (k0, recorded arrays of samples k0 … k0 + chunk − 1, NumPy). Each piece
+    is joined from calls of the same compiled scan (:func:`_scan_steps`), each continuing from the state the
+    previous one ended in (the law and the reference are functions of (q, t) only, so a call computes the
+    whole run's samples); between calls Python answers a signal (Ctrl-C). The last piece is cut at sample
+    n − 1."""
     run = _run_shared if setup.batch_q and not setup.batch_law else _run
-    q, k0 = setup.q0, 0
+    steps = _scan_steps(setup, chunk)
+    axis = setup.axis
+    q, k, k0 = setup.q0, 0, 0
+    batch_q = setup.batch_q  # a batch of laws from one q0 continues from one state per law
+    held: list[dict] = []
     while k0 < setup.n:
-        q, out = run(
-            setup.robot,
-            setup.task,
-            setup.integrator,
-            chunk,
-            setup.dt,
-            setup.reference,
-            setup.law,
-            q,
-            setup.batch_law,
-            setup.batch_q,
-            float(k0),
-        )
-        cut = (slice(None),) * setup.axis + (slice(0, min(chunk, setup.n - k0)),)
-        yield k0, jax.tree.map(lambda x, cut=cut: np.asarray(x)[cut], out)
-        k0 += chunk
+        wanted = min(chunk, setup.n - k0)
+        while sum(part["q"].shape[axis] for part in held) < wanted:
+            q, out = run(
+                setup.robot,
+                setup.task,
+                setup.integrator,
+                steps,
+                setup.dt,
+                setup.reference,
+                setup.law,
+                q,
+                setup.batch_law,
+                batch_q,
+                float(k),
+            )
+            batch_q = setup.batch_q or setup.batch_law
+            held.append(jax.tree.map(np.asarray, out))
+            k += steps
+        joined = held[0] if len(held) == 1 else jax.tree.map(lambda *xs: np.concatenate(xs, axis=axis), *held)
+        cut, rest = ((slice(None),) * axis + (part,) for part in (slice(0, wanted), slice(wanted, None)))
+        yield k0, jax.tree.map(lambda x, cut=cut: x[cut], joined)
+        held = [jax.tree.map(lambda x, rest=rest: x[rest], joined)] if k - k0 > wanted else []
+        k0 += wanted
 
 
 def _result(setup: _Setup, k0: int, out: dict) -> SimulationResult:
@@ -387,6 +424,7 @@ def _result(setup: _Setup, k0: int, out: dict) -> SimulationResult:
         info=info,
         robot=robot,
         task=task,
+        law=None if setup.batch_law else cast(Law, setup.law),
     )
 
 

@@ -22,7 +22,7 @@ from mobman import integration
 from mobman.dynamics import reduced
 from mobman.dynamics.inertia import DynamicModel
 from mobman.engine import runge_kutta
-from mobman.errors import InputError
+from mobman.errors import ConvergenceError, InputError
 
 TorqueFn = Callable[[jnp.ndarray, jnp.ndarray, jnp.ndarray], jnp.ndarray]
 """τ = torque_fn(t, q, η) for one state (traced by JAX; must be hashable, e.g. a module-level function)."""
@@ -75,7 +75,11 @@ def simulate(
     duration: float = 1.0,
     dt: float = 1e-3,
 ) -> SimulationResult:
-    """Integrate the reduced equations from (q0, η0) for ``duration`` seconds with step ``dt`` (RK4)."""
+    """Integrate the reduced equations from (q0, η0) for ``duration`` seconds with step ``dt`` (RK4).
+
+    Never a NaN: a torque function that returns NaN or infinite torques is an InputError naming the time; a
+    state that becomes NaN or infinite a ConvergenceError naming the time, its ``history`` the samples before.
+    """
     if not (np.isfinite(duration) and duration > 0):
         raise InputError(f"simulate: duration must be a finite number > 0 s, got {duration!r}")
     if not (np.isfinite(dt) and 0 < dt <= duration):
@@ -83,8 +87,19 @@ def simulate(
     q0 = jnp.asarray(model.robot.validate_q(q0))
     eta0 = reduced.validated_eta(model, eta0, "eta0")
     steps = int(round(duration / dt))
-    q, eta, tau = _simulate(model, q0, eta0, torque_fn, steps, float(dt))
-    return SimulationResult(np.arange(steps + 1) * dt, np.asarray(q), np.asarray(eta), np.asarray(tau))
+    q, eta, tau = (np.asarray(x) for x in _simulate(model, q0, eta0, torque_fn, steps, float(dt)))
+    t = np.arange(steps + 1) * dt
+    finite = np.isfinite(q).all(axis=1) & np.isfinite(eta).all(axis=1) & np.isfinite(tau).all(axis=1)
+    if not finite.all():
+        k = int(np.argmin(finite))
+        if not np.isfinite(tau[k]).all():
+            raise InputError(f"simulate: torque_fn returned NaN or infinite torques at t = {t[k]:.6g} s")
+        raise ConvergenceError(
+            f"simulate: the state (q, η) is NaN or infinite from t = {t[k]:.6g} s on (the motion diverges; "
+            "a smaller dt, or torques that keep it bounded)",
+            SimulationResult(t[:k], q[:k], eta[:k], tau[:k]),
+        )
+    return SimulationResult(t, q, eta, tau)
 
 
 __all__ = ["SimulationResult", "simulate", "zero_torque"]

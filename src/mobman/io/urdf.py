@@ -53,11 +53,20 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
   frame of the platform or of the joint that moves them, for the viewer; ``package://`` and relative mesh
   paths are resolved from the URDF's location (yourdfpy's resolver, walking up its folders). A mesh that
   cannot be found is left out and listed in the summary (yourdfpy's log line per mesh is filtered out);
-  :meth:`UrdfSummary.mesh_note` is the one line a drawing of the robot says about them.
+  :meth:`UrdfSummary.mesh_note` is the one line a drawing of the robot says about them. A mesh found must be
+  a mesh file (:data:`MESH_SUFFIXES`), and a path written relative to the robot must stay in its folder: a
+  relative path in the URDF's folder, ``package://PACKAGE/…`` in that package (the URDF's nearest ancestor
+  folder of that name) or the URDF's folder; an absolute path names its file itself. No other file is read.
 - **Errors** name the link or joint: a tip that is not below the base, no wheel pair (with the continuous
   joints seen), a shared moving joint, a floating joint, virtual base joints or a mimic of an arm coordinate
   on a chain, a platform option that is not one of the platform's parameters (naming those), a file that is
-  not URDF or cannot be read. A ``.xacro`` file must be expanded first: ``xacro robot.urdf.xacro > robot.urdf``.
+  not URDF or cannot be read.
+- **Files that lie** are refused in one line naming the file and what is wrong, before any of it is used: XML
+  that is not well-formed (parsed strictly first: yourdfpy's parser would repair a truncated file), a link or
+  joint name used twice, a link below two joints, joints that form a cycle (a link its own ancestor), an
+  origin, axis or inertia that is not finite, a NaN limit, a velocity or effort limit below 0 (0 reads as no
+  limit: URDF requires both attributes and writers put 0 where they know none), a mass below 0, a mesh that is
+  not a mesh file or lies outside the robot's folder. yourdfpy's own log lines are held back while it reads. A ``.xacro`` file must be expanded first: ``xacro robot.urdf.xacro > robot.urdf``.
 
 Writing (:func:`write_urdf`)
 ----------------------------
@@ -82,7 +91,7 @@ import os
 import warnings
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any, Iterator, Mapping, Sequence
+from typing import Any, Iterator, Mapping, NoReturn, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -227,8 +236,13 @@ def is_urdf_path(name: str | os.PathLike[str]) -> bool:
 
 
 def _parse(path: str | os.PathLike[str]) -> tuple[Any, Path]:
+    """The file read by yourdfpy, after it is found well-formed XML with unique link and joint names
+    (yourdfpy's parser repairs a damaged file and keeps one of two links of a name) and its numbers checked
+    (:func:`_check_numbers`); every error one line naming the file."""
     import yourdfpy
 
+    if not isinstance(path, (str, os.PathLike)) or isinstance(os.fspath(path), bytes):
+        raise InputError(f"path must be a URDF file's path (str or os.PathLike), got {type(path).__name__}")
     file = Path(path)
     if file.suffix.lower() == ".xacro":
         target = file.stem if file.stem.endswith(".urdf") else file.stem + ".urdf"
@@ -248,19 +262,91 @@ def _parse(path: str | os.PathLike[str]) -> tuple[Any, Path]:
         )
     if "<robot" not in text:
         raise InputError(f"{file}: not a URDF file (no <robot> element)")
-    try:
-        urdf = yourdfpy.URDF.load(
-            str(file),
-            build_scene_graph=False,
-            build_collision_scene_graph=False,
-            load_meshes=False,
-            load_collision_meshes=False,
-        )
-    except Exception as exc:  # noqa: BLE001 - any parser failure is a bad file
-        raise InputError(f"{file}: not a readable URDF file ({type(exc).__name__}: {exc})") from None
+    _check_names(_strict_xml(file), file)
+    with _yourdfpy_lines() as said:
+        try:
+            urdf = yourdfpy.URDF.load(
+                str(file),
+                build_scene_graph=False,
+                build_collision_scene_graph=False,
+                load_meshes=False,
+                load_collision_meshes=False,
+            )
+        except Exception as exc:  # noqa: BLE001 - any parser failure is a bad file
+            lines = "".join(f"; {r.getMessage()}" for r in said if r.levelno >= logging.WARNING)
+            raise InputError(
+                f"{file}: not a readable URDF file ({type(exc).__name__}: {exc}{lines})"
+            ) from None
     if urdf.robot is None or not urdf.robot.links:
         raise InputError(f"{file}: not a URDF file (no links)")
+    _check_numbers(urdf.robot, file)
     return urdf, file
+
+
+def _strict_xml(file: Path) -> Any:
+    """The root element of ``file`` parsed as strict XML (Expat: no external entity or DTD is read): an
+    InputError naming the line and column where it is not well-formed (a truncated file, a tag never closed)."""
+    from xml.etree import ElementTree
+
+    try:
+        return ElementTree.parse(file).getroot()
+    except ElementTree.ParseError as exc:
+        raise InputError(f"{file}: not well-formed XML ({exc}): a truncated or damaged file") from None
+
+
+def _check_names(root: Any, file: Path) -> None:
+    """Every link and every joint of the ``<robot>`` element ``root`` named, each name once."""
+    if root.tag != "robot":
+        raise InputError(f"{file}: not a URDF file (its root element is <{root.tag}>, not <robot>)")
+    for kind in ("link", "joint"):
+        names = [element.get("name") for element in root.findall(kind)]
+        if None in names or "" in names:
+            raise InputError(f"{file}: a <{kind}> without a name")
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            raise InputError(f"{file}: {kind} names used twice: {', '.join(map(repr, repeated))}")
+
+
+def _check_numbers(robot: Any, file: Path) -> None:
+    """The numbers of every joint and link the way URDF defines them, else an InputError naming the file, the
+    joint or link and the field: origins and axes finite; limits not NaN, velocity and effort ≥ 0 (URDF
+    requires both attributes of a revolute or prismatic joint's ``<limit>``, and writers put 0 where they
+    know no limit: 0 reads as none); a link's mass finite and ≥ 0, its inertia and inertial origin finite."""
+
+    def refuse(what: str, text: str) -> NoReturn:
+        raise InputError(f"{file}: {what}: {text}")
+
+    for j in robot.joints:
+        what = f"joint {j.name!r}"
+        if j.origin is not None and not np.all(np.isfinite(np.asarray(j.origin, dtype=float))):
+            refuse(what, "origin (xyz, rpy) must be finite numbers")
+        if j.axis is not None and not np.all(np.isfinite(np.asarray(j.axis, dtype=float))):
+            refuse(what, "axis must be 3 finite numbers")
+        if j.limit is not None:
+            for name in ("lower", "upper", "velocity", "effort"):
+                value = getattr(j.limit, name)
+                if value is not None and math.isnan(value):
+                    refuse(what, f"limit {name} is NaN")
+            for name, unit in (("velocity", "rad/s or m/s"), ("effort", "N·m or N")):
+                value = getattr(j.limit, name)
+                if value is not None and value < 0:
+                    refuse(what, f"limit {name} must be ≥ 0 ({unit}; 0: none given), got {value:g}")
+        if j.mimic is not None:
+            for name in ("multiplier", "offset"):
+                value = getattr(j.mimic, name)
+                if value is not None and not math.isfinite(value):
+                    refuse(what, f"mimic {name} must be finite, got {value!r}")
+    for link in robot.links:
+        inertial = link.inertial
+        if inertial is None:
+            continue
+        what = f"link {link.name!r}"
+        mass = inertial.mass
+        if mass is not None and not (math.isfinite(mass) and mass >= 0):
+            refuse(what, f"mass must be a finite number ≥ 0 (kg), got {mass:g}")
+        for name, value in (("inertia", inertial.inertia), ("inertial origin", inertial.origin)):
+            if value is not None and not np.all(np.isfinite(np.asarray(value, dtype=float))):
+                refuse(what, f"{name} must be finite numbers")
 
 
 def _motion(kind: str, axis: np.ndarray, value: float) -> np.ndarray:
@@ -304,18 +390,43 @@ class _Tree:
     root: str
 
     @classmethod
-    def of(cls, robot: Any) -> "_Tree":
+    def of(cls, robot: Any, file: Path) -> "_Tree":
+        """The tree of the file's joints, checked to be one: each joint between two links of the file, each
+        link below one joint at most, one root, and every link below it (a link that is its own ancestor is
+        a cycle, which no walk through the tree would leave)."""
+        links = {link.name: link for link in robot.links}
         joints = {j.name: j for j in robot.joints}
-        parent_joint = {j.child: j for j in robot.joints}
+        parent_joint: dict = {}
         children: dict = {}
         for j in robot.joints:
+            for end in (j.parent, j.child):
+                if end not in links:
+                    raise InputError(f"{file}: joint {j.name!r} names {end!r}, not a link of the file")
+            if j.child in parent_joint:
+                raise InputError(
+                    f"{file}: link {j.child!r} is the child of two joints, "
+                    f"{parent_joint[j.child].name!r} and {j.name!r}"
+                )
+            parent_joint[j.child] = j
             children.setdefault(j.parent, []).append(j)
-        links = {link.name: link for link in robot.links}
         roots = [name for name in links if name not in parent_joint]
         if len(roots) != 1:
             raise InputError(
-                f"URDF {robot.name!r}: expected one root link, found {', '.join(roots) or 'none'}"
+                f"{file}: expected one root link, found {', '.join(roots) or 'none'}"
+                + ("" if roots else ": the joints form a cycle")
             )
+        below, stack = {roots[0]}, [roots[0]]
+        while stack:
+            for j in children.get(stack.pop(), []):
+                below.add(j.child)
+                stack.append(j.child)
+        if len(below) < len(links):
+            link = next(name for name in links if name not in below)
+            cycle = [link]
+            while (link := parent_joint[link].parent) not in cycle:
+                cycle.append(link)
+            loop = " → ".join([link, *reversed(cycle[cycle.index(link) + 1 :]), link])
+            raise InputError(f"{file}: the joints form a cycle, link {link!r} is its own ancestor ({loop})")
         return cls(joints, parent_joint, children, links, roots[0])
 
     def path(self, base: str, tip: str) -> list:
@@ -421,8 +532,6 @@ def _visuals(
 ) -> tuple:
     """The visual shapes of ``links`` in the frame of pose ``frame`` (``element="collisions"``: their collision
     shapes); meshes not found are left out and their file names added to ``missing``."""
-    from yourdfpy import filename_handler_magic
-
     inv = np.linalg.inv(frame)
     shapes = []
     for name in links:
@@ -443,41 +552,86 @@ def _visuals(
             elif g.sphere is not None:
                 shapes.append(Visual("sphere", size=(g.sphere.radius,), **common))
             elif g.mesh is not None:
-                resolved = filename_handler_magic(g.mesh.filename, dir=directory)
-                if not os.path.isfile(resolved):
+                resolved = _mesh_file(g.mesh.filename, directory, name)
+                if resolved is None:
                     missing.append(g.mesh.filename)
                     continue
                 scale = np.broadcast_to(np.asarray(1.0 if g.mesh.scale is None else g.mesh.scale, float), 3)
-                shapes.append(
-                    Visual("mesh", filename=os.path.abspath(resolved), scale=tuple(scale), **common)
-                )
+                shapes.append(Visual("mesh", filename=resolved, scale=tuple(scale), **common))
     return tuple(shapes)
 
 
-class _UnresolvedMesh(logging.Filter):
-    """Drops yourdfpy's line per mesh file it cannot resolve: :func:`read_urdf` lists them in its summary and
-    a drawing says them in one line (:meth:`UrdfSummary.mesh_note`)."""
+class _YourdfpyLines(logging.Filter):
+    """Holds back yourdfpy's log lines while it parses a file or resolves a mesh path, so that a reading says
+    one line at most, mobman's: a line per mesh file it cannot resolve is dropped (:func:`read_urdf` lists
+    them in its summary and a drawing says them in one line, :meth:`UrdfSummary.mesh_note`); the others are
+    kept in ``held`` for the error that refuses the file."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.held: list[logging.LogRecord] = []
 
     def filter(self, record: logging.LogRecord) -> bool:
-        return not str(record.msg).startswith("Unable to resolve filename")
+        if not str(record.msg).startswith("Unable to resolve filename"):
+            self.held.append(record)
+        return False
 
 
 @contextlib.contextmanager
-def _unresolved_meshes_collected() -> Iterator[None]:
+def _yourdfpy_lines() -> Iterator[list[logging.LogRecord]]:
+    """yourdfpy's log lines held back (:class:`_YourdfpyLines`) while the block runs; yields those kept."""
     logger = logging.getLogger("yourdfpy.urdf")
-    quiet = _UnresolvedMesh()
-    logger.addFilter(quiet)
+    lines = _YourdfpyLines()
+    logger.addFilter(lines)
     try:
-        yield
+        yield lines.held
     finally:
-        logger.removeFilter(quiet)
+        logger.removeFilter(lines)
+
+
+MESH_SUFFIXES = (".stl", ".dae", ".obj", ".ply", ".off", ".glb", ".gltf")
+"""The mesh file types a URDF's ``<mesh filename=…>`` may name."""
+
+
+def _mesh_file(filename: str, directory: str, link: str) -> str | None:
+    """The mesh file ``filename`` of ``link`` resolved from the URDF's folder ``directory`` (yourdfpy's
+    resolver: ``package://`` and relative paths searched from the folder up), None where no file is found.
+    A file found must be a mesh file (:data:`MESH_SUFFIXES`), and a path written relative to the robot must
+    stay in the robot's folder: a relative path in the URDF's folder, a ``package://PACKAGE/`` path in that
+    package (the URDF's nearest ancestor folder of that name) or its folder; else an InputError. An
+    absolute path (``/…``, ``file:///…``) names its file itself, as :func:`write_urdf` writes a robot's
+    meshes where they are installed."""
+    from yourdfpy import filename_handler_magic
+
+    try:
+        with _yourdfpy_lines():
+            resolved = filename_handler_magic(filename, dir=directory)
+    except (TypeError, ValueError):  # yourdfpy's resolver fails on a package path without a file below it
+        raise InputError(f"link {link!r}: mesh {filename!r} names no file of a package") from None
+    if not os.path.isfile(resolved):
+        return None
+    found = Path(resolved).resolve()
+    if found.suffix.lower() not in MESH_SUFFIXES:
+        raise InputError(
+            f"link {link!r}: mesh {filename!r} is {found}, not a mesh file ({', '.join(MESH_SUFFIXES)})"
+        )
+    if not (filename.startswith("file://") or os.path.isabs(filename)):
+        folder = Path(directory).resolve()
+        roots = [folder]
+        if filename.startswith("package://"):
+            package = filename[len("package://") :].split("/", 1)[0]
+            roots += [a for a in folder.parents if package and a.name == package][:1]
+        if not any(found.is_relative_to(root) for root in roots):
+            where = " or ".join(str(r) for r in roots)
+            raise InputError(
+                f"link {link!r}: mesh {filename!r} is {found}, outside the robot's folder {where}"
+            )
+    return str(found)
 
 
 def _geometry_radius(link: Any, axle_local: np.ndarray, directory: str) -> float | None:
     """Radius of a wheel link about its axle (in the link frame) from its collision, else visual, geometry: a
     sphere's or a cylinder's along the axle radius, a mesh's half width across the axle."""
-    from yourdfpy import filename_handler_magic
-
     for shapes in (link.collisions, link.visuals):
         for shape in shapes:
             g = shape.geometry
@@ -490,8 +644,8 @@ def _geometry_radius(link: Any, axle_local: np.ndarray, directory: str) -> float
             if g.cylinder is not None and abs(abs(rotation[:, 2] @ axle_local) - 1.0) < 1e-6:
                 return float(g.cylinder.radius)
             if g.mesh is not None:
-                resolved = filename_handler_magic(g.mesh.filename, dir=directory)
-                if os.path.isfile(resolved):
+                resolved = _mesh_file(g.mesh.filename, directory, link.name)
+                if resolved is not None:
                     import trimesh
 
                     mesh = trimesh.load(resolved, force="mesh")
@@ -803,9 +957,12 @@ def read_urdf(
         if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
             raise ModelError(f"platform option {key}: must be a finite number, got {value!r}")
     given_height = options.pop("base_height", None)
-    with _unresolved_meshes_collected():
-        urdf, file = _parse(path)
+    urdf, file = _parse(path)
+    try:
         return _read(urdf, file, tip, base, platform, wheels, name, locked, options, given_height)
+    except InputError as exc:  # what the file holds (its tree, its meshes): said with the file's name
+        text = str(exc)
+        raise InputError(text if text.startswith(f"{file}: ") else f"{file}: {text}") from None
 
 
 def _read(
@@ -821,14 +978,21 @@ def _read(
     given_height: float | None,
 ) -> UrdfModel:
     """:func:`read_urdf` of the parsed file ``urdf`` with its checked options."""
-    tree = _Tree.of(urdf.robot)
-    tips = (tip,) if isinstance(tip, str) else tuple(tip)
+    tree = _Tree.of(urdf.robot, file)
+    tips = (tip,) if isinstance(tip, str) else tuple(tip) if isinstance(tip, (list, tuple)) else (tip,)
     if not tips:
         raise ModelError("tip: give at least one tip link")
+    for t in tips:
+        if not isinstance(t, str):
+            raise ModelError(f"tip: a link's name or a list of them, got {t!r}")
+    if not isinstance(locked, (Mapping, type(None))):
+        raise ModelError(f"locked: a mapping of joint names to values, got {type(locked).__name__}")
     locked = dict(locked or {})
     for joint_name, value in locked.items():
         if joint_name not in tree.joints or tree.joints[joint_name].type not in _MOVING:
             raise ModelError(f"locked: {joint_name!r} is not a moving joint of the URDF")
+        if not isinstance(value, (int, float, np.integer, np.floating)) or isinstance(value, bool):
+            raise ModelError(f"locked: {joint_name} must be a number (rad or m), got {value!r}")
         if not math.isfinite(value):
             raise ModelError(f"locked: {joint_name} must be finite, got {value!r}")
     paths = [tree.path(base, t) for t in tips]
@@ -1049,7 +1213,7 @@ def collision_shapes(model: UrdfModel) -> dict[tuple[int, int], tuple[Visual, ..
     with spheres. Links off the chains go with the body they hang from; meshes not found are left out."""
     summary, robot = model.summary, model.robot
     urdf, file = _parse(summary.path)
-    tree = _Tree.of(urdf.robot)
+    tree = _Tree.of(urdf.robot, file)
     held = dict(summary.locked) | {joint: value for joint, _, value in summary.mimics}
     poses = _poses(tree, held)
     starts = {

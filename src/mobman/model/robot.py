@@ -19,7 +19,7 @@ import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
-from mobman.checks import all_finite
+from mobman.checks import all_finite, real_array
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.arm import Arm, LinkInertial
@@ -75,6 +75,10 @@ class Frames:
     """per arm: R (n_joints + 1, 3, 3) and p (n_joints + 1, 3); the last entry is the tool frame."""
 
 
+MAX_JOINTS = 64
+"""Most arm joints a robot may have, all arms together (TIAGo dual has 14, a humanoid's upper body about 30)."""
+
+
 def _first_tool_position() -> Task:
     """The default operational task: the first arm's tool position."""
     from mobman.model.tasks import Position
@@ -108,6 +112,12 @@ class MobileManipulator:
         mounts = (mounts,) if isinstance(mounts, Mount) else tuple(mounts)
         if len(mounts) != len(arms):
             raise ModelError(f"{self.name}: {len(mounts)} mounts given for {len(arms)} arms")
+        joints = sum(arm.n_joints for arm in arms)
+        if joints > MAX_JOINTS:
+            raise ModelError(
+                f"{self.name}: {joints} arm joints, more than the {MAX_JOINTS} a robot may have (every program "
+                "is compiled for the robot's joints: one of hundreds would take minutes to compile)"
+            )
         object.__setattr__(self, "arms", arms)
         object.__setattr__(self, "mounts", mounts)
         object.__setattr__(self, "parameters", tuple((str(k), float(v)) for k, v in self.parameters))
@@ -227,7 +237,9 @@ class MobileManipulator:
     def validate_q(self, q: npt.ArrayLike) -> np.ndarray:
         """Check a configuration (or a batch): last axis of size n_q, finite values. Returns float64 NumPy."""
         try:
-            arr = np.asarray(q, dtype=float)
+            arr = real_array(q, f"{self.name}: a configuration")
+        except InputError:
+            raise
         except (TypeError, ValueError):
             raise InputError(
                 f"{self.name}: a configuration is {self.n_q} numbers ({', '.join(self.coordinate_names)}) or a "
@@ -244,6 +256,10 @@ class MobileManipulator:
         Returns the array itself when it is float64."""
         if _in_host_memory(q):
             self.validate_q(q)  # NumPy reads host memory in place
+        elif q.dtype.kind == "c":
+            raise InputError(
+                f"{self.name}: a configuration must be real numbers, got complex ones ({q.dtype})"
+            )
         else:
             self._check_q(q.shape, lambda: bool(_all_finite(q)))
         return q if q.dtype == jnp.float64 else q.astype(jnp.float64)

@@ -39,6 +39,12 @@ SINGULAR_RCOND = 1e-13
 MAX_HALVINGS = 40
 ARMIJO = 1e-4
 
+MAX_STEP = 10.0
+"""Largest fixed continuation step Δθ (Newton's is 1; the papers use 0.1 to 1)."""
+
+MAX_GAMMA = 1e3
+"""Largest rate γ: with Δθ, the step z ← z + Δθ γ d, whose product with a larger γ only overflows."""
+
 
 @dataclass(frozen=True)
 class Options:
@@ -65,10 +71,14 @@ class Options:
     def __post_init__(self) -> None:
         if self.algorithm not in ALGORITHMS:
             raise InputError(f"algorithm must be one of {', '.join(ALGORITHMS)}, got {self.algorithm!r}")
-        if self.step != "adaptive" and not (isinstance(self.step, (int, float)) and 0 < self.step < np.inf):
-            raise InputError(f"step Δθ must be a number > 0 or 'adaptive', got {self.step!r}")
-        if not (isinstance(self.gamma, (int, float)) and 0 < self.gamma < np.inf):
-            raise InputError(f"gamma must be a number > 0, got {self.gamma!r}")
+        if self.step != "adaptive" and not (
+            isinstance(self.step, (int, float)) and 0 < self.step <= MAX_STEP
+        ):
+            raise InputError(
+                f"step Δθ must be a number in (0, {MAX_STEP:g}] or 'adaptive', got {self.step!r}"
+            )
+        if not (isinstance(self.gamma, (int, float)) and 0 < self.gamma <= MAX_GAMMA):
+            raise InputError(f"gamma must be a number in (0, {MAX_GAMMA:g}], got {self.gamma!r}")
         if not (isinstance(self.tol, (int, float)) and self.tol > 0):
             raise InputError(f"tol must be a number > 0, got {self.tol!r}")
         if not isinstance(self.max_iterations, int) or self.max_iterations < 0:

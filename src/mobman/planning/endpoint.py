@@ -43,6 +43,9 @@ from mobman.planning.basis import Basis, Fourier
 _Array = TypeVar("_Array", jax.Array, np.ndarray)
 
 DEFAULT_METHOD = "dop853"
+MAX_HORIZON = 1e4
+"""Longest control horizon T (s): a motion plan, not a mission (the papers normalise T = 1); the controls'
+frequencies scale with 1/T and the integration's steps with T, which past this only lose precision."""
 DEFAULT_STEPS = 100
 """DOP853 steps over [0, T] for the endpoint map (discretisation error ≲ 1e-14 at the §4 solutions, see
 docs/planning.md for the convergence study behind this value)."""
@@ -73,8 +76,8 @@ class PlanningSetting:
 
     def __post_init__(self) -> None:
         integrators.tableau(self.method)
-        if not (isinstance(self.horizon, (int, float)) and np.isfinite(self.horizon) and self.horizon > 0):
-            raise InputError(f"horizon T must be a finite number > 0, got {self.horizon!r}")
+        if not (isinstance(self.horizon, (int, float)) and 0 < self.horizon <= MAX_HORIZON):
+            raise InputError(f"horizon T must be a number in (0, {MAX_HORIZON:g}] s, got {self.horizon!r}")
         for name in ("steps", "jacobian_steps"):
             value = getattr(self, name)
             if not isinstance(value, int) or value < 1 or value % self.basis.pieces:

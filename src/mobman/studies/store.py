@@ -26,11 +26,12 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -103,8 +104,7 @@ def run(
     it the results stay in memory. ``chunk``: rows per unit of work, by default ``new_chunk`` for a new study
     and the store's own for one resumed (another one is refused).
     """
-    if chunk is not None and not (isinstance(chunk, (int, np.integer)) and chunk >= 1):
-        raise InputError(f"chunk must be an integer ≥ 1 (rows per unit of work), got {chunk!r}")
+    check_options(store, chunk, scheduler)
     definition = _normalised(definition)
     if store is not None and chunk is None and Path(store).exists():
         chunk = int(_existing(Path(store)).attrs["mobman"]["chunk"])
@@ -139,12 +139,46 @@ def run(
 def read(store: str | os.PathLike[str]) -> Study:
     """A study's results as they are in ``store`` (complete or not)."""
     group = _existing(Path(store))
-    meta = dict(group.attrs["mobman"])
-    rows, chunk = int(meta["rows"]), int(meta["chunk"])
+    meta = _layout(group, str(store))
+    rows, chunk = meta["rows"], meta["chunk"]
     spans = chunks(rows, chunk)
     flags = np.asarray(group["done"][:], dtype=bool)
     columns = {name: np.asarray(group[name][:]) for name in meta["columns"]}
     return Study(meta["definition"], columns, np.repeat(flags, [b - a for a, b in spans]))
+
+
+def _layout(group: Any, path: str) -> dict[str, Any]:
+    """The store's ``attrs["mobman"]`` checked against the layout it states (module notes): its rows and
+    chunk, each column an array of the rows and the row shape and dtype stated, one ``done`` flag per chunk;
+    an InputError naming the first field that is not so (a store edited or damaged)."""
+
+    def refuse(field: str, text: str) -> NoReturn:
+        raise InputError(f"store {path!r}: {field} {text} (a damaged or edited store)")
+
+    meta = group.attrs["mobman"]
+    if not isinstance(meta, dict):
+        refuse("attrs['mobman']", "is not an object")
+    for key in ("rows", "chunk"):
+        value = meta.get(key)
+        if not (isinstance(value, int) and not isinstance(value, bool) and value >= (key == "chunk")):
+            refuse(key, f"must be an integer ≥ {int(key == 'chunk')}, got {value!r}")
+    if not isinstance(meta.get("definition"), dict):
+        refuse("definition", "is missing")
+    columns = meta.get("columns")
+    if not (isinstance(columns, dict) and columns):
+        refuse("columns", "is missing")
+    arrays = {"done": ((len(chunks(meta["rows"], meta["chunk"])),), "bool")}
+    for name, column in columns.items():
+        if not (isinstance(column, dict) and isinstance(column.get("shape"), list) and "dtype" in column):
+            refuse(f"columns.{name}", "must give the shape and dtype of a row")
+        arrays[name] = ((meta["rows"], *column["shape"]), column["dtype"])
+    for name, (shape, dtype) in arrays.items():
+        array = group.get(name) if hasattr(group, "get") else None
+        if array is None or not hasattr(array, "shape"):
+            refuse(name, "is missing")
+        if tuple(array.shape) != tuple(shape) or str(array.dtype) != str(dtype):
+            refuse(name, f"is {array.dtype} {tuple(array.shape)}, its layout says {dtype} {tuple(shape)}")
+    return meta
 
 
 def _compute_all(
@@ -187,16 +221,11 @@ def _on_dask(compute: Compute, spans: list[tuple[int, int]], pending: list[int],
             n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None, processes=True
         )
         client = Client(cluster)
-    elif "://" in scheduler:
+    else:  # an address (check_scheduler)
         try:
             client = Client(scheduler, timeout=CONNECT_TIMEOUT)
         except (OSError, TimeoutError) as exc:
             raise InputError(f"scheduler {scheduler!r}: cannot connect ({exc})") from None
-    else:
-        raise InputError(
-            f"scheduler must be 'local', 'local:N' (N worker processes) or an address such as "
-            f"tcp://HOST:8786, got {scheduler!r}"
-        )
     try:
         futures = [client.submit(compute, *spans[k], key=f"mobman-chunk-{k}-{os.getpid()}") for k in pending]
         index = {future.key: k for future, k in zip(futures, pending)}
@@ -206,6 +235,33 @@ def _on_dask(compute: Compute, spans: list[tuple[int, int]], pending: list[int],
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def check_options(store: object, chunk: object, scheduler: object) -> None:
+    """:func:`run`'s ``store`` (a path or None), ``chunk`` (an integer ≥ 1 or None) and ``scheduler``
+    (:func:`check_scheduler`, or None), checked: a study's public function calls it before any work."""
+    if chunk is not None and not (isinstance(chunk, (int, np.integer)) and chunk >= 1):
+        raise InputError(f"chunk must be an integer ≥ 1 (rows per unit of work), got {chunk!r}")
+    if store is not None and not isinstance(store, (str, os.PathLike)):
+        raise InputError(f"store must be a folder's path (str or os.PathLike), got {type(store).__name__}")
+    if scheduler is not None:
+        check_scheduler(scheduler)
+
+
+def check_scheduler(scheduler: object) -> None:
+    """An InputError unless ``scheduler`` is ``"local"``, ``"local:N"`` (N ≥ 1) or an address with a
+    protocol Dask speaks, a host and a port (``tcp://HOST:PORT``, ``tls://HOST:PORT``)."""
+    local = isinstance(scheduler, str) and (scheduler == "local" or scheduler.startswith("local:"))
+    address = (
+        re.fullmatch(r"(tcp|tls)://[^\s:/]+:(\d{1,5})", scheduler) if isinstance(scheduler, str) else None
+    )
+    if not (local or (address and 1 <= int(address.group(2)) <= 65535)):
+        raise InputError(
+            f"scheduler must be 'local', 'local:N' (N worker processes) or an address tcp://HOST:PORT "
+            f"or tls://HOST:PORT (port 1 to 65535), got {scheduler!r}"
+        )
+    if local:
+        _local_workers(str(scheduler))
 
 
 def _local_workers(scheduler: str) -> int:
@@ -345,6 +401,8 @@ __all__ = [
     "FORMAT",
     "Progress",
     "Study",
+    "check_options",
+    "check_scheduler",
     "chunks",
     "read",
     "run",

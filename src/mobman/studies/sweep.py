@@ -130,10 +130,12 @@ def sweep(
             f"robot must be a built-in robot's name ({', '.join(robots.ROBOTS)}) or a MobileManipulator, "
             f"got {robot!r}"
         )
-    fixed = {k: float(v) for k, v in (fixed or {}).items()}
+    studies.check_options(store, chunk, scheduler)
+    fixed = _fixed(fixed)
     described = f"robot {name}" if isinstance(source, str) else f"the given robot {name!r}"
     grid = _grid(described, robots.parameter_names(source), parameters, fixed)
     samples = options.count(samples, "samples")
+    seed = options.seed(seed)
     if not (isinstance(arm, (int, np.integer)) and arm >= 0):
         raise InputError(f"arm must be an integer ≥ 0, got {arm!r}")
     # the robot's digest is in the definition: a store computed for another robot of the name is refused
@@ -147,6 +149,10 @@ def sweep(
         raise InputError("bounds and step go together: give both for the coverage of a box, or neither")
     box = None if bounds is None else maps.parse_bounds(bounds).tolist()
     step = None if step is None else options.distance(step, "step")
+    if box is not None:  # the coverage's grid, counted before any design is built
+        maps.grid_shape(np.asarray(box), float(step))  # type: ignore[arg-type]
+    # a design's postures and the Jacobian (3 × n_q) of each at once
+    options.memory({"samples": samples}, samples * base.n_q * 4)
     shape = tuple(len(v) for v in grid.values())
     designs = math.prod(shape)
     if designs > MAX_DESIGNS:
@@ -212,6 +218,20 @@ def from_study(study: studies.Study) -> DesignSweep:
         measure=d["measure"],
         level=d["level"],
     )
+
+
+def _fixed(fixed: Mapping[str, float] | None) -> dict[str, float]:
+    """The fixed parameters as finite floats (an InputError naming one that is not)."""
+    if not isinstance(fixed, (Mapping, type(None))):
+        raise InputError(f"fixed: a mapping of parameter names to values, got {type(fixed).__name__}")
+    out = {}
+    for key, value in (fixed or {}).items():
+        if not (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)):
+            raise InputError(f"fixed: {key} must be a number, got {value!r}")
+        if not math.isfinite(value):
+            raise InputError(f"fixed: {key} must be finite, got {value!r}")
+        out[str(key)] = float(value)
+    return out
 
 
 def _grid(
