@@ -130,7 +130,7 @@ def test_keep_out_regions_leave_out_the_bases_whose_platform_would_overlap_them(
         (["--target", "1,0.5,0.8", "--headings", "0"], "--headings must be an integer ≥ 1"),
         (["--target", "1,0.5,0.8", "--starts", "0"], "--starts must be an integer ≥ 1"),
         (["--target", "1,0.5,0.8", "--iterations", "0"], "--iterations must be an integer ≥ 1"),
-        (["--target", "1,0.5,0.8", "--tolerance", "0"], "--tolerance must be a finite number > 0"),
+        (["--target", "1,0.5,0.8", "--tolerance", "0"], "--tolerance must be a number > 0 and ≤ 0.1"),
         (
             ["--target", "1,0.5,0.8", "--radii", "0.5,-1"],
             "--radii must be one or more finite distances ≥ 0 (m), got 0.5, -1",
@@ -182,3 +182,53 @@ def test_a_map_s_cells_are_the_candidates(tmp_path, capsys):
         assert code == 2 and message in err and err.count("\n") == 1, err
     code, _, err = _run(["place", "bayle-planar", "--target", "0.3,-0.4,2", "--map", str(store)], capsys)
     assert code == 3 and "no reached cell of the map lies within half a step of the target's height" in err
+
+
+@pytest.mark.parametrize(
+    ("text", "field"),
+    [
+        ('[[obstacle]]\nname = "table"\nshape = "cube"\nsize = [1.0]\n', "shape must be one of"),
+        ('[[obstacle]]\nname = "table"\nshape = "box"\nsize = [1.0, -1.0, 1.0]\n', "size[1] (y) must be > 0"),
+        (
+            '[[obstacle]]\nname = "table"\nshape = "box"\nsize = [1, 1, 1]\nposition = [0, nan, 0]\n',
+            "position",
+        ),
+        ('[[obstacle]]\nname = "table"\nshap = "box"\n', "unknown key 'shap'"),
+    ],
+)
+def test_a_bad_scene_is_one_line_and_exit_2(tmp_path, capsys, text, field):
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    for command in (["place", "tiago", "--target", "1,0,0.8"], ["map", "tiago"]):
+        code, _, err = _run([*command, "--scene", str(path)], capsys)
+        lines = err.strip().splitlines()
+        assert code == 2 and len(lines) == 1 and field in lines[0] and "table" in lines[0], lines
+    code, _, err = _run(
+        ["place", "tiago", "--target", "1,0,0.8", "--scene", str(tmp_path / "none.toml")], capsys
+    )
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "none.toml" in err
+
+
+def test_a_scene_s_table_keeps_the_platform_and_the_arm_off(tmp_path, capsys):
+    path = tmp_path / "scene.toml"
+    path.write_text(
+        '[[obstacle]]\nname = "table"\nshape = "box"\nsize = [0.6, 1.0, 0.75]\nposition = [1.2, 0, 0.375]\n'
+    )
+    args = [
+        "place",
+        "tiago",
+        "--target",
+        "0.95,0,0.9",
+        "--radii",
+        "0.5,1.2",
+        "--bearings",
+        "4",
+        "--headings",
+        "4",
+    ]
+    code, out, err = _run([*args, "--starts", "8", "--scene", str(path), "--json"], capsys)
+    report = json.loads(out)
+    assert code == 0, err
+    assert report["collision"]["obstacles"] == ["table"] and report["collision"]["tolerance"] == 0.1
+    assert report["blocked"] >= 1 and report["colliding"] >= 1 and report["reached"] >= 1
+    assert report["reached"] + report["blocked"] + report["colliding"] <= report["candidates"]

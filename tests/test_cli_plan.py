@@ -55,6 +55,9 @@ def test_plan_json_reaches_tolerance_and_writes_figures(tmp_path, capsys):
         (["--target", "0,0"], "--target"),
         (["--target", "0,0,1", "--horizon", "0"], "--horizon"),
         (["--target", "0,0,1", "--horizon", "-2"], "--horizon"),
+        (["--target", "0,0,1", "--horizon", "1e300"], "--horizon must be a number in (0, 10000] s"),
+        (["--target", "0,0,1", "--step", "1e300"], "step Δθ must be a number in (0, 10]"),
+        (["--target", "0,0,1", "--gamma", "1e300"], "gamma must be a number in (0, 1000]"),
         (["--target", "0,0,1", "--start", "1,2"], "--start"),
         (["--target", "0,0,1", "--step", "fast"], "--step"),
     ],
@@ -129,3 +132,56 @@ def test_joint_limits_of_the_start_and_of_the_planned_arm_joints(tmp_path, cli_r
         code == 2
         and line == "error: start (--start, --x): q6 = -0.5 outside [0, inf] (the robot's joint limits)"
     )
+
+
+PAPER = ["plan", "tchon-car-rtr", "--target", "0,0,1", "--start", "5,0,0,pi/6", "--x", "0,2,pi/4"]
+
+
+def _rock(tmp_path, y: float):
+    """A rock of radius 0.1 m inside the car's body where the paper's plan (start P) has the platform at
+    t = 0.3 s (x = 2.687, y = 0.283; the body spans z ∈ [−0.15, 0]), or moved aside to ``y``."""
+    path = tmp_path / f"rock{y}.toml"
+    path.write_text(
+        f'[[obstacle]]\nname = "rock"\nshape = "sphere"\nsize = [0.1]\nposition = [2.687, {y}, -0.075]\n'
+    )
+    return path
+
+
+def test_a_plan_through_an_obstacle_does_not_reach_its_goal(tmp_path, capsys):
+    code, captured = _run([*PAPER, "--scene", str(_rock(tmp_path, 0.283)), "--json"], capsys)
+    report = json.loads(captured.out)
+    assert code == 3 and report["converged"] and not report["reached"]
+    hit = report["first_collision"]
+    assert (
+        (hit["robot"], hit["other"]) == ("platform", "rock") and 0 < hit["time"] <= 0.3 and hit["depth"] > 0
+    )
+    assert report["min_distance"] < 0 and report["closest"]["other"] == "rock"
+    line = captured.err.strip()
+    assert len(line.splitlines()) == 1 and "not reached: the motion collides at t = " in line
+    assert "platform against rock" in line and "m deep" in line
+
+
+def test_a_plan_beside_an_obstacle_reaches_its_goal_and_reports_its_clearance(tmp_path, cli_json):
+    scene = str(_rock(tmp_path, -4.0))
+    report = cli_json([*PAPER, "--scene", scene, "--out", str(tmp_path / "run")])
+    assert report["reached"] and report["first_collision"] is None and report["min_distance"] > 0
+    closest = report["closest"]
+    assert closest["distance"] == report["min_distance"]
+    # the sample of the closest pair, asked of `mobman distance` one configuration at a time: the same pair
+    (motion,) = trajectories.read(tmp_path / "run")
+    k = int(np.argmin(np.abs(motion.t - closest["time"])))
+    q = ",".join(repr(float(v)) for v in motion.q[k])
+    alone = cli_json(["distance", "tchon-car-rtr", "--q", q, "--scene", scene])
+    assert alone["min_distance"] == pytest.approx(report["min_distance"], abs=1e-12)
+    assert (alone["closest"]["robot"], alone["closest"]["other"]) == (closest["robot"], closest["other"])
+    np.testing.assert_allclose(alone["closest"]["robot_point"], closest["robot_point"], atol=1e-12)
+
+
+def test_a_bad_scene_is_one_line(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[obstacle]]\nname = "rock"\nshape = "sphere"\nsize = [0.0]\n')
+    code, captured = _run([*PAPER, "--scene", str(bad)], capsys)
+    assert code == 2 and len(captured.err.strip().splitlines()) == 1
+    assert "obstacle 'rock': size[0] (radius) must be > 0" in captured.err and "bad.toml" in captured.err
+    code, captured = _run([*PAPER, "--scene", str(_rock(tmp_path, 0.0)), "--cover-tolerance", "0"], capsys)
+    assert code == 2 and "--cover-tolerance: must be a finite number > 0" in captured.err

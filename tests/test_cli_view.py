@@ -280,3 +280,62 @@ def test_keep_out_regions_are_drawn_on_the_floor(artifacts, capsys):
 def test_bad_floor_options_are_one_line(options, message, capsys):
     code, err = _run(["view", "bayle-rrp", "--port", "0", *options], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1 and message in err, err
+
+
+SCENE = """
+floor = -0.1
+
+[[obstacle]]
+name = "table"
+shape = "box"
+size = [0.6, 1.2, 0.5]
+position = [1.1, 0.0, 0.25]
+"""
+
+
+def test_a_scene_and_the_collision_spheres_are_drawn(tmp_path, artifacts, capsys):
+    """The table in front of the arm covers thousands of teal pixels (green and blue alike, well above red),
+    the spheres' magenta a thousand more (red and blue well above green)."""
+
+    def pixels(png: Path) -> tuple[int, int]:
+        rgb = np.asarray(Image.open(png).convert("RGB"), dtype=float)[:, :900]
+        red, green, blue = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+        teal = (green - red > 60) & (np.abs(green - blue) < 30)
+        magenta = (red - green > 40) & (blue - green > 25)
+        return int(teal.sum()), int(magenta.sum())
+
+    scene = tmp_path / "scene.toml"
+    scene.write_text(SCENE)
+    png = artifacts / "view_scene_spheres.png"
+    q = "0,0,0,0,0.3,0.7"
+    main(["view", "bayle-rrp", "--q", q, "--scene", str(scene), "--spheres", "--screenshot", str(png)])
+    assert f"screenshot: {png}" in capsys.readouterr().out
+    teal, magenta = pixels(png)
+    assert teal > 3000 and magenta > 1000, (teal, magenta)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            '[[obstacle]]\nname = "cone"\nshape = "cone"\nsize = [1.0]\n',
+            "obstacle 'cone': shape must be one of",
+        ),
+        (
+            '[[obstacle]]\nname = "t"\nshape = "box"\nsize = [1.0, -1.0, 1.0]\n',
+            "obstacle 't': size[1] (y) must be > 0",
+        ),
+        ('[[obstacle]]\nname = "t"\nshape = "sphere"\nsize = [1.0]\nposition = [0, nan, 0]\n', "position[1]"),
+        (
+            '[[obstacle]]\nname = "t"\nshape = "sphere"\nsize = [1.0]\ncolour = "red"\n',
+            "unknown key 'colour'",
+        ),
+    ],
+)
+def test_a_bad_scene_is_one_line(text, message, tmp_path, capsys):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(text)
+    code, err = _run(["view", "bayle-rrp", "--port", "0", "--scene", str(scene)], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and message in err and "scene.toml" in err, err
+    code, err = _run(["view", "bayle-rrp", "--port", "0", "--scene", str(tmp_path / "none.toml")], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "none.toml" in err, err

@@ -137,7 +137,7 @@ def test_a_stopped_map_is_resumed_to_the_same_cells(tmp_path, planar):
         ({"bounds": [1, 0, 0, 1, 0, 1]}, "x_min 1 is above x_max 0"),
         ({"starts": 0}, "starts must be an integer ≥ 1"),
         ({"iterations": 1.5}, "iterations must be an integer ≥ 1"),
-        ({"tolerance": -1.0}, "tolerance must be a finite distance > 0"),
+        ({"tolerance": -1.0}, "tolerance must be a number > 0 and ≤ 0.1"),
         ({"measure": "volume"}, "measure must be one of yoshikawa"),
         ({"level": "platform"}, "level must be one of arm, system"),
         ({"arm": 1}, "arm must be an integer from 0 to 0"),

@@ -173,7 +173,7 @@ def test_the_default_radii_run_from_zero_to_the_arm_s_reach():
         ({"headings": 1.5}, "headings must be an integer ≥ 1"),
         ({"starts": 0}, "starts must be an integer ≥ 1"),
         ({"iterations": 0}, "iterations must be an integer ≥ 1"),
-        ({"tolerance": 0.0}, "tolerance must be a finite number > 0"),
+        ({"tolerance": 0.0}, "tolerance must be a number > 0 and ≤ 0.1"),
         ({"measure": "volume"}, "measure must be one of yoshikawa, inverse_condition, eccentricity"),
         ({"level": "wheels"}, "level must be one of arm, system"),
         ({"centre": [0.0]}, r"centre must be 2 numbers \(x, y\)"),

@@ -387,3 +387,93 @@ def test_mobman_view_draws_a_map_store_and_refuses_another_robot_s(tmp_path, cli
     assert code == 2 and "--map: the map was computed for another robot ('bayle-planar')" in err
     code, _, err = cli_run(["view", "bayle-planar", "--map", str(tmp_path / "none.zarr")])
     assert code == 2 and "--map: store" in err and "no such study" in err
+
+
+def _rpy_matrix(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """R = Rz(yaw) Ry(pitch) Rx(roll), written out (the scene file's convention)."""
+    cr, sr, cp, sp, cy, sy = (
+        np.cos(roll),
+        np.sin(roll),
+        np.cos(pitch),
+        np.sin(pitch),
+        np.cos(yaw),
+        np.sin(yaw),
+    )
+    rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    ry = np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    return rz @ ry @ rx
+
+
+def test_a_scene_s_obstacles_spheres_and_closest_pair_are_drawn_and_follow_the_posture():
+    """Every primitive of a scene at its pose and size (viser's box, icosphere and cylinder; a capsule as a
+    cylinder with a sphere at each end), the floor slab's top on the floor plane, the collision spheres off
+    until the panel's box is ticked, on the platform's spheres at R(θ) c + (x, y, 0), and the closest pair's
+    segment between the witness points of mobman.collision's nearest pair, red in penetration."""
+    import viser.transforms as vtf
+
+    from mobman import collision
+    from mobman.model.collision_model import collision_model
+    from mobman.model.scene import Obstacle, Scene
+
+    robot = robots.bayle_rrp()
+    obstacles = (
+        Obstacle("wall", "box", (0.2, 2.0, 1.0), (1.0, 0.0, 0.5), (0.1, -0.2, np.pi / 2)),
+        Obstacle("ball", "sphere", (0.15,), (-1.0, 0.5, 0.3)),
+        Obstacle("post", "cylinder", (0.1, 0.8), (0.0, -1.2, 0.4), (np.pi / 2, 0.0, 0.0)),
+        Obstacle("bar", "capsule", (0.05, 0.6), (-0.5, -0.5, 1.0), (0.0, np.pi, 0.3)),
+    )
+    scene = Scene(obstacles, floor=-0.1)
+    model = collision_model(robot)
+    with Viewer(robot, port=0) as v:
+        v.show_scene(scene, model)
+        for o in obstacles:
+            node = v.nodes[f"/scene/{o.name}"]
+            np.testing.assert_allclose(node.position, o.position, atol=1e-12)
+            np.testing.assert_allclose(
+                vtf.SO3(np.asarray(node.wxyz)).as_matrix(), _rpy_matrix(*o.rpy), atol=1e-12
+            )
+        assert tuple(v.nodes["/scene/wall"].dimensions) == (0.2, 2.0, 1.0)
+        assert v.nodes["/scene/ball"].radius == 0.15
+        assert (v.nodes["/scene/post"].radius, v.nodes["/scene/post"].height) == (0.1, 0.8)
+        assert (v.nodes["/scene/bar/body"].radius, v.nodes["/scene/bar/body"].height) == (0.05, 0.6)
+        for end, z in (("top", 0.3), ("bottom", -0.3)):
+            np.testing.assert_allclose(v.nodes[f"/scene/bar/{end}"].position, [0.0, 0.0, z])
+            assert v.nodes[f"/scene/bar/{end}"].radius == 0.05
+        floor = v.nodes["/scene/floor"]
+        assert floor.position[2] + floor.dimensions[2] / 2 == pytest.approx(-0.1, abs=1e-12)
+
+        spheres = v.nodes["/collision/spheres"]
+        assert not spheres.visible
+        v.spheres_checkbox.value = True
+        assert spheres.visible
+        np.testing.assert_allclose(spheres.batched_scales, [s.radius for s in model.spheres], rtol=1e-6)
+
+        # θ = π/2: the platform's spheres turned a quarter about z; the arm reaching into the wall at x = 1
+        for q in ([0.3, -0.2, np.pi / 2, 0.4, 0.3, 0.5], [0.5, 0.0, 0.0, 0.0, 0.2, 0.6]):
+            q = np.asarray(q)
+            v.show(q)
+            turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]) if q[2] else np.eye(3)
+            on_platform = [k for k, s in enumerate(model.spheres) if s.body == (-1, 0)]
+            expected = np.array([turn @ model.spheres[k].centre for k in on_platform]) + [q[0], q[1], 0.0]
+            np.testing.assert_allclose(spheres.batched_positions[on_platform], expected, atol=1e-6)
+            out = collision.distances(model, scene, q)
+            k = int(np.argmin(out.distance))
+            segment = v.nodes["/collision/closest"].points[0]
+            np.testing.assert_allclose(segment, [out.robot_point[k], out.other_point[k]], atol=1e-6)
+            assert v.closest == (collision.pair_names(model, scene)[k], pytest.approx(out.distance[k]))
+            assert tuple(v.nodes["/collision/closest"].colors[0, 0]) == viewer_module.clearance_color(
+                out.distance[k]
+            )
+        assert v.closest[1] < 0 and v.closest[0] == ("q6", "wall")  # the arm's last link is in the wall
+        assert tuple(v.nodes["/collision/closest"].colors[0, 0]) == viewer_module.NEAR_COLOR
+        assert "q6 – wall" in v.clearance_md.content and "(in collision)" in v.clearance_md.content
+
+
+def test_the_clearance_colour_goes_from_red_at_contact_to_green_far_away():
+    near, far = np.array(viewer_module.NEAR_COLOR), np.array(viewer_module.FAR_COLOR)
+    assert viewer_module.clearance_color(-0.5) == viewer_module.clearance_color(0.0) == tuple(near)
+    assert viewer_module.clearance_color(viewer_module.CLEARANCE_FAR) == tuple(far)
+    assert viewer_module.clearance_color(5.0) == tuple(far)
+    halfway = viewer_module.clearance_color(viewer_module.CLEARANCE_FAR / 2)
+    np.testing.assert_allclose(halfway, (near + far) / 2, atol=0.5)

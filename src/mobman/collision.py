@@ -235,6 +235,21 @@ def distances(model: CollisionModel, scene: Scene, q: npt.ArrayLike) -> PairDist
     return PairDistances(*(np.asarray(v) for v in _program(model, scene, q)))
 
 
+def point_distances(scene: Scene, point: npt.ArrayLike) -> np.ndarray:
+    """Signed distances (m, negative inside) of one world ``point`` (3,) to each obstacle of ``scene`` and to
+    its floor, in the order of :attr:`~mobman.model.scene.Scene.names`."""
+    x = np.asarray(point, dtype=float)
+    phi = [
+        float(
+            _SHAPE_DISTANCE[o.shape](
+                o.rotation.T @ (x - o.position), np.asarray(o.size + (0.0,) * (3 - len(o.size)))
+            )[0]
+        )
+        for o in scene.obstacles
+    ]
+    return np.array(phi + ([] if scene.floor is None else [x[2] - scene.floor]))
+
+
 __all__ = [
     "PairDistances",
     "centre_jacobians_one",
@@ -243,4 +258,5 @@ __all__ = [
     "distances_one",
     "pair_names",
     "pair_spheres",
+    "point_distances",
 ]

@@ -31,6 +31,7 @@ from mobman.io.urdf import collision_shapes, is_urdf_path
 from mobman.model.collision_model import DEFAULT_TOLERANCE, CollisionModel, collision_model, neutral_posture
 from mobman.model.robot import MobileManipulator
 from mobman.model.scene import Scene
+from mobman.studies.clearance import COVER_TOLERANCE
 
 
 def body_pairs(model: CollisionModel, scene: Scene, q: np.ndarray) -> dict:
@@ -78,10 +79,50 @@ def robot_collision_model(
     return CollisionModel.from_shapes(robot, collision_shapes(read), tolerance)
 
 
-def collision_tolerance(value: float) -> float:
-    """``--tolerance`` checked: a finite number > 0 (m)."""
+class ClearanceOption:
+    """The command-line options of :func:`clearance_arguments` (``mobman place``, ``mobman map``)."""
+
+    scene = typer.Option(
+        None,
+        "--scene",
+        help="Scene file (TOML, [[obstacle]] tables, optional floor): postures must be free of its obstacles; "
+        "its boxes on the floor keep the platform off.",
+    )
+    collision = typer.Option(
+        True,
+        "--collision/--no-collision",
+        help="Accept only postures free of collision with the robot itself (and the --scene).",
+    )
+    cover = typer.Option(
+        COVER_TOLERANCE,
+        "--cover-tolerance",
+        help="Cover tolerance of the collision spheres (m, > 0): how far they may reach beyond the robot.",
+    )
+
+
+def clearance_arguments(
+    name: str, robot: MobileManipulator, urdf: dict, scene: Path | None, check: bool, cover: float
+) -> dict:
+    """``--scene``, ``--collision`` and ``--cover-tolerance`` as the ``scene`` and ``collision`` arguments of
+    the studies (:mod:`mobman.studies.clearance`): the collision model of :func:`robot_collision_model`
+    unless ``--no-collision`` (then no --scene either)."""
+    if scene is not None and not check:
+        raise InputError("--scene: postures are checked against a scene only with --collision")
+    if not check:
+        return {}
+    world = None if scene is None else scene_file.load(scene)
+    return {
+        "scene": world,
+        "collision": robot_collision_model(
+            name, robot, urdf, collision_tolerance(cover, "--cover-tolerance")
+        ),
+    }
+
+
+def collision_tolerance(value: float, option: str = "--tolerance") -> float:
+    """``--tolerance`` (``option``) checked: a finite number > 0 (m)."""
     if not (np.isfinite(value) and value > 0):
-        raise InputError(f"--tolerance: must be a finite number > 0 (m), got {value!r}")
+        raise InputError(f"{option}: must be a finite number > 0 (m), got {value!r}")
     return float(value)
 
 

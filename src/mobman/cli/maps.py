@@ -5,7 +5,9 @@ Solves the arm's inverse kinematics, the platform parked, for every cell centre 
 platform (``--bounds``, ``--step``) and scores the reached cells by a manipulability measure (``--measure``,
 ``--level``). ``--store`` keeps the cells in a Zarr store as they are computed: a run stopped (Ctrl-C, a lost
 machine) is resumed by the same command. ``--scheduler`` computes them on a Dask cluster. ``--figure`` draws
-the map from above and from the side. Exit status 3 when no cell is reached.
+the map from above and from the side. A posture counts only when the robot there is free of collision with
+itself and with the obstacles and floor of ``--scene`` (``--no-collision``: not checked;
+:mod:`mobman.studies.clearance`); cells reached only with colliding postures are counted apart. Exit status 3 when no cell is reached.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from mobman.cli.common import (
     StudyOption,
     UrdfOption,
     array_text,
+    check_figure,
     load_robot,
     not_reached,
     progress_bar,
@@ -30,6 +33,7 @@ from mobman.cli.common import (
     study_arguments,
     urdf_options,
 )
+from mobman.cli.distance import ClearanceOption, clearance_arguments
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
@@ -68,6 +72,9 @@ def _summary(result: ReachabilityMap, n_platform: int) -> dict[str, Any]:
         "cells": int(np.prod(result.shape)),
         "computed": int(result.computed.sum()),
         "reached": int(result.reached.sum()),
+        "colliding": None
+        if result.colliding is None or result.clearance is None
+        else int(result.colliding.sum()),
         "fraction": result.fraction,
         "best": None
         if best is None
@@ -104,6 +111,9 @@ def map_command(
         "arm", "--level", help=f"one of {', '.join(LEVELS)}: J_a (platform parked) or J̄ = J S."
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of the random starting postures."),
+    scene: Path | None = ClearanceOption.scene,
+    collision: bool = ClearanceOption.collision,
+    cover: float = ClearanceOption.cover,
     store: Path | None = StudyOption.store,
     chunk: int | None = typer.Option(
         None, "--chunk", help="Cells per unit of work (≥ 1; default 4096, or the store's own)."
@@ -121,11 +131,10 @@ def map_command(
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Map where the arm's tool reaches around the platform, scored by manipulability."""
-    if figure is not None and figure.suffix.lower() != ".png":
-        raise InputError(f"--figure must name a .png file, got {str(figure)!r}")
-    robot = load_robot(
-        robot_name, params, urdf_options(tip, base, platform, wheels, lock, platform_option), arm
-    )
+    check_figure(figure)
+    urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
+    robot = load_robot(robot_name, params, urdf, arm)
+    checks = clearance_arguments(robot_name, robot, urdf, scene, collision, cover)
     box = None if bounds is None else parse_vector(bounds, "--bounds", 6)
     with resumable("map", store), progress_bar("mapping", not (quiet or json_output)) as bar:
         try:
@@ -140,6 +149,7 @@ def map_command(
                 measure=measure,
                 level=level,
                 seed=seed,
+                **checks,
                 **study_arguments(store, chunk, scheduler, bar),
             )
         except InputError as exc:
@@ -177,6 +187,7 @@ def _print(report: dict, robot_name: str) -> None:
     console.print(
         f"mobman map {robot_name}: {report['reached']} of {report['cells']} cells reached "
         f"({report['fraction']:.1%}; {report['level']} {report['measure']}, step {report['step']:g} m)"
+        + ("" if report["colliding"] is None else f"; {report['colliding']} reached only in collision")
     )
     table = Table()
     for column in ("z (m)", "cells reached"):

@@ -6,7 +6,10 @@ solves the arm's inverse kinematics from ``--starts`` postures within the joint 
 bases that reach the target by a manipulability measure of the posture (``--measure``, ``--level``).
 ``--keep-out`` regions of the floor (repeatable) leave out the bases from which the platform, covered by the
 disc of ``--footprint`` (by default the one covering the platform's drawn shapes), would overlap one of them
-(:mod:`mobman.studies.floor`). Exit status 3 when no base reaches it (the candidates are still printed), with
+(:mod:`mobman.studies.floor`). A posture counts only when the robot there is free of collision with itself and
+with the obstacles and floor of ``--scene`` (``--no-collision``: not checked; :mod:`mobman.studies.clearance`),
+whose boxes on the floor are keep-out regions too; bases reached only with colliding postures are counted apart.
+Exit status 3 when no base reaches it (the candidates are still printed), with
 one line saying why: a target beyond the robot's reach (its height above or below what any posture reaches,
 or every base farther than the arm reaches; :func:`mobman.studies.placement.out_of_reach`), or else the
 closest error and what to try.
@@ -34,6 +37,7 @@ from mobman.cli.common import (
     not_reached,
     urdf_options,
 )
+from mobman.cli.distance import ClearanceOption, clearance_arguments
 from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
@@ -109,6 +113,9 @@ def place_command(
     ),
     keep_out: list[str] | None = FloorOption.keep_out,
     footprint: str | None = FloorOption.footprint,
+    scene: Path | None = ClearanceOption.scene,
+    collision: bool = ClearanceOption.collision,
+    cover: float = ClearanceOption.cover,
     top: int = typer.Option(5, "--top", help="Bases listed, best first (≥ 1)."),
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
     tip: list[str] | None = UrdfOption.tip,
@@ -122,7 +129,8 @@ def place_command(
     """Find platform poses from which the arm reaches --target, ranked by manipulability."""
     if top < 1:
         raise InputError(f"--top must be ≥ 1, got {top}")
-    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock, platform_option))
+    urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
+    robot = load_robot(robot_name, params, urdf)
     grid = {
         "centre": None if centre is None else parse_vector(centre, "--centre", 2),
         "radii": None if radii is None else parse_vector(radii, "--radii"),
@@ -134,6 +142,7 @@ def place_command(
     given: dict[str, Any] = {name: value for name, value in grid.items() if value is not None}
     solver: dict[str, Any] = {"headings": headings, "tolerance": tolerance}
     solver["keep_out"], solver["footprint"] = floor_arguments(robot, keep_out, footprint)
+    solver.update(clearance_arguments(robot_name, robot, urdf, scene, collision, cover))
     if iterations is not None:
         solver["iterations"] = iterations
     try:
@@ -166,6 +175,8 @@ def place_command(
         "candidates": int(result.bases.shape[0]),
         "reached": int(result.reached.sum()),
         "blocked": int(np.sum(result.blocked)),
+        "colliding": int(np.sum(result.colliding)),
+        "collision": None if "collision" not in solver else _clearance(solver),
         "footprint": None if result.footprint is None else asdict(result.footprint),
         "best": ranking[0] if ranking else None,
         "ranking": ranking,
@@ -178,6 +189,14 @@ def place_command(
         not_reached("place", "no reached cell of the map lies within half a step of the target's height")
     if not ranking and np.all(result.blocked):
         not_reached("place", f"every base of the {report['candidates']} is blocked by --keep-out")
+    if not ranking and report["colliding"]:
+        not_reached(
+            "place",
+            f"no base of the {report['candidates']} reaches the target with a posture free of collision "
+            f"({report['colliding']} reach it only with colliding postures"
+            + (f", {report['blocked']} blocked by --keep-out or the scene" if report["blocked"] else "")
+            + ")",
+        )
     if not ranking:
         closest = float(np.min(result.error[~result.blocked]))
         why = out_of_reach(robot, result, task)
@@ -192,8 +211,20 @@ def place_command(
         )
 
 
+def _clearance(solver: dict) -> dict:
+    """The report's account of the collision checks: the cover and the scene's obstacles."""
+    model, scene = solver["collision"], solver["scene"]
+    return {
+        "tolerance": model.tolerance,
+        "spheres": len(model.spheres),
+        "obstacles": [] if scene is None else [o.name for o in scene.obstacles],
+    }
+
+
 def _print(report: dict, robot_name: str, n_platform: int) -> None:
     blocked = f", {report['blocked']} blocked by --keep-out" if report["footprint"] is not None else ""
+    if report["collision"] is not None:
+        blocked += f", {report['colliding']} only in collision"
     table = Table(
         title=f"mobman place {robot_name}: {report['reached']} of {report['candidates']} bases reach "
         f"{array_text(report['target'])} ({report['level']} {report['measure']}"

@@ -8,8 +8,13 @@ term of control i is 0.01·(−1)^i (the paper's λ01 = 0.01, λ02 = −0.01), o
 limits gives a warning line (``outside_limits`` in ``--json``); ``--strict-limits`` makes it an error (exit 2,
 nothing written).
 
-A plan reaches its goal (``reached`` in ``--json``) when the algorithm converged (‖K − y_d‖ ≤ ``--tol``) and its
-arm joint positions x lie within the robot's joint limits: a plan that ends outside them cannot be executed.
+With ``--scene FILE`` the planned motion is checked against the scene's obstacles and floor and against the
+robot itself (:mod:`mobman.planning.clearance`, the collision spheres of ``mobman distance`` at
+``--cover-tolerance``): its smallest distance, the closest pair, and the first collision (time, pair, depth).
+
+A plan reaches its goal (``reached`` in ``--json``) when the algorithm converged (‖K − y_d‖ ≤ ``--tol``), its
+arm joint positions x lie within the robot's joint limits (a plan that ends outside them cannot be executed),
+and, with ``--scene``, its motion is free of collision.
 Otherwise the command ends with one line saying what was not reached and by how much, and exit status 3 (the
 report printed, the figures written).
 """
@@ -35,11 +40,13 @@ from mobman.errors import InputError
 from mobman.io import dump_json, trajectories
 from mobman.io.numbers import parse_vector
 from mobman.io.output import check_folder, results_folder
+from mobman.model.collision_model import DEFAULT_TOLERANCE
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, PlanResult, plan
 from mobman.planning.basis import Fourier
-from mobman.planning.endpoint import PlanningSetting, configuration_path, dexterity
+from mobman.planning.clearance import PairAt, PathClearance, path_clearance
+from mobman.planning.endpoint import MAX_HORIZON, PlanningSetting, configuration_path, dexterity
 
 MAX_HARMONICS = 100
 """Largest accepted --harmonics (2·100 + 1 coefficients per control)."""
@@ -129,7 +136,7 @@ def plan_command(
     ),
     target: str = typer.Option(..., "--target", help="Desired task value y_d at time T, e.g. 0,0,1."),
     algorithm: str = typer.Option("pinv", "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
-    horizon: float = typer.Option(1.0, "--horizon", help="Control horizon T > 0."),
+    horizon: float = typer.Option(1.0, "--horizon", help=f"Control horizon T in (0, {MAX_HORIZON:g}] s."),
     harmonics: int = typer.Option(2, "--harmonics", help="Fourier harmonics per control (≥ 0)."),
     start: str | None = typer.Option(None, "--start", help="Platform start pose q_p(0), e.g. 5,0,0,pi/6."),
     joints: str | None = typer.Option(None, "--x", help="Initial arm joint positions x0."),
@@ -152,17 +159,38 @@ def plan_command(
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Path | None = typer.Option(None, "--out", help="Folder for the path and convergence figures."),
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
+    scene_path: Path | None = typer.Option(
+        None,
+        "--scene",
+        help="Scene file (TOML, [[obstacle]] tables, optional floor): check the planned motion against it and "
+        "the robot itself.",
+    ),
+    cover_tolerance: float = typer.Option(
+        DEFAULT_TOLERANCE,
+        "--cover-tolerance",
+        help="Cover tolerance of the collision spheres (m, > 0): how far they may reach beyond the robot.",
+    ),
 ) -> None:
     """Plan platform controls and arm joint positions that bring the task to --target at time T."""
     if algorithm not in ALGORITHMS:
         raise InputError(f"--algorithm must be one of {', '.join(ALGORITHMS)}, got {algorithm!r}")
-    if not (math.isfinite(horizon) and horizon > 0):
-        raise InputError(f"--horizon must be a finite number > 0, got {horizon}")
+    if not 0 < horizon <= MAX_HORIZON:
+        raise InputError(f"--horizon must be a number in (0, {MAX_HORIZON:g}] s, got {horizon}")
     if not 0 <= harmonics <= MAX_HARMONICS:
         raise InputError(f"--harmonics must be in 0..{MAX_HARMONICS}, got {harmonics}")
     if not 1 <= max_iterations <= MAX_ITERATIONS:
         raise InputError(f"--max-iterations must be in 1..{MAX_ITERATIONS}, got {max_iterations}")
-    robot = load_robot(robot_name, params, urdf_options(tip, base, platform, wheels, lock, platform_option))
+    urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
+    robot = load_robot(robot_name, params, urdf)
+    model, world = None, None
+    if scene_path is not None:
+        from mobman.cli.distance import collision_tolerance, robot_collision_model
+        from mobman.io import scene as scene_file
+
+        world = scene_file.load(scene_path)
+        model = robot_collision_model(
+            robot_name, robot, urdf, collision_tolerance(cover_tolerance, "--cover-tolerance")
+        )
     if out is not None:
         check_folder(out, "plan")
     setting = PlanningSetting(robot, Fourier(harmonics), horizon=horizon)
@@ -217,6 +245,11 @@ def plan_command(
         "reached": bool(result.converged and not beyond),
         "error_history": result.errors,
     }
+    clearance = None
+    if model is not None and world is not None:
+        clearance = path_clearance(model, world, *configuration_path(setting, result.z, q0))
+        report.update(_clearance_report(clearance))
+        report["reached"] = report["reached"] and clearance.first_collision is None
     if out is not None:
         from mobman.planning.figures import plot_convergence, plot_paths  # matplotlib: only with --out
 
@@ -239,7 +272,35 @@ def plan_command(
         missed = [] if result.converged else [f"{result.status} after {result.iterations} iterations"]
         if beyond:
             missed.append(f"the plan ends outside the joint limits: {_outside(robot, end, beyond)}")
+        hit = None if clearance is None else clearance.first_collision
+        if hit is not None:
+            missed.append(
+                f"the motion collides at t = {hit.time:.4g} s: {hit.pair[0]} against {hit.pair[1]}, "
+                f"{-hit.distance:.3g} m deep"
+            )
         not_reached("plan", f"not reached: {'; '.join(missed)} (final error {result.final_error:.3e})")
+
+
+def _clearance_report(clearance: PathClearance) -> dict[str, Any]:
+    """The JSON fields of a path's clearance: ``min_distance`` (m), ``closest`` (pair, time, distance, witness
+    points) and ``first_collision`` (time, pair, depth; None when free)."""
+
+    def pair(p: PairAt) -> dict[str, Any]:
+        return {"robot": p.pair[0], "other": p.pair[1], "time": p.time}
+
+    closest, hit = clearance.closest, clearance.first_collision
+    return {
+        "min_distance": clearance.min_distance,
+        "closest": None
+        if closest is None
+        else {
+            **pair(closest),
+            "distance": closest.distance,
+            "robot_point": closest.robot_point,
+            "other_point": closest.other_point,
+        },
+        "first_collision": None if hit is None else {**pair(hit), "depth": -hit.distance},
+    }
 
 
 def _limit_excess(robot: MobileManipulator, q: np.ndarray, coordinates: slice) -> dict[str, float]:
@@ -276,6 +337,20 @@ def _print(report: dict, result: PlanResult, options: Options, robot_name: str, 
     for key in ("status", "reached", "iterations", "final_error", "dexterity_start", "dexterity_end"):
         value = report[key]
         table.add_row(key, f"{value:.3e}" if isinstance(value, float) else str(value))
+    if "min_distance" in report:
+        closest, hit = report["closest"], report["first_collision"]
+        if closest is None:
+            table.add_row("min_distance", "no pair (an empty scene and no self-collision pair)")
+        else:
+            table.add_row("min_distance", f"{closest['distance']:.4g} m")
+            table.add_row(
+                "closest", f"{closest['robot']} – {closest['other']} at t = {closest['time']:.4g} s"
+            )
+        if hit is not None:
+            at = f"t = {hit['time']:.4g} s: {hit['robot']} – {hit['other']}, {hit['depth']:.3g} m deep"
+            table.add_row("first_collision", at)
+        else:
+            table.add_row("first_collision", "none")
     table.add_row("lambda", array_text(result.lam))
     table.add_row("x", array_text(result.x))
     for f in report.get("figures", []):

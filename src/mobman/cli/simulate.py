@@ -28,6 +28,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from mobman.cli import collisions
 from mobman.cli.app import app
 from mobman.cli.common import (
     MAX_STEPS,
@@ -52,6 +53,7 @@ if TYPE_CHECKING:
     from mobman.control.spec import Spec
     from mobman.model.robot import MobileManipulator
     from mobman.model.tasks import Task
+    from mobman.physics.run import SpecRun
 
 PROGRESS_STEPS = 5000
 """Runs with more steps than this show a progress bar (computed in compiled chunks)."""
@@ -191,6 +193,7 @@ def _series(result: SimulationResult) -> dict:
         "measures": result.measures,
         "saturated": result.saturated,
         "damped": result.damped,
+        **{name: result.info[name] for name in ("min_distance",) if name in result.info},
     }
 
 
@@ -284,6 +287,19 @@ def _write(out: Path, source: dict, name: str, result: SimulationResult, summary
     return _figures(out, name, result)
 
 
+def _write_physics(out: Path, source: dict, name: str, run: SpecRun, summary: dict) -> list[Path]:
+    """The results of a run on physics (:mod:`mobman.cli.physics_run`): :func:`_write`'s, with the physics
+    series and names in ``results.json`` and ``physics.png``."""
+    from mobman.cli.physics_run import physics_figure
+
+    series = {**_series(run.result), "physics": run.series}
+    names = {"wheels": run.wheels, "actuators": run.actuators}
+    document = {**source, "physics": names, "metrics": summary, "series": series}
+    write_text(out / "results.json", dump_json(document))
+    physics_figure(out / "physics.png", run)
+    return [*_figures(out, name, run.result), out / "physics.png"]
+
+
 def _write_streamed(out: Path, source: dict, name: str, spec: Spec, summary: dict) -> list[Path]:
     samples = _steps(spec)
     result, stride = _decimated(out, spec, samples)
@@ -346,9 +362,16 @@ def simulate_command(
         MAX_STEPS, "--max-steps", help="Refuse runs of more time steps than this (duration / dt)."
     ),
     strict_limits: bool = typer.Option(False, "--strict-limits", help=STRICT_HELP),
+    scene: Path | None = typer.Option(
+        None, "--scene", help="Scene file (TOML) whose obstacles the qp law avoids (docs/collision.md)."
+    ),
+    physics: str | None = typer.Option(
+        None, "--physics", help="Run on a physics engine: mujoco (docs/physics.md; or the spec's [physics])."
+    ),
 ) -> None:
     """Simulate a control law tracking an operational reference (a spec file, or ROBOT --target); print the
     run's metrics. Exit 3 when the final tracking error is above --tolerance."""
+    from mobman.cli import physics_run
     from mobman.control import metrics, spec
 
     if not (math.isfinite(tolerance) and tolerance > 0):
@@ -386,15 +409,26 @@ def simulate_command(
             "q0": start.tolist(),
             "law": kind,
         }
+    parsed, said = collisions.prepare(parsed, scene)
+    extra = {**extra, **said}
     steps = _steps(parsed)
     streamed = steps > STREAM_STEPS
     check_steps(steps, _values_per_step(parsed), "duration / dt", max_steps, held=min(steps, STREAM_STEPS))
     outside = outside_limits(parsed.robot, parsed.q0[None], "q0", strict_limits)[0]
+    on_physics = physics_run.prepare(physics, parsed, source, target is None, urdf)
     if out is not None:
         check_folder(out, "simulate")
         if streamed:  # the time series go to files: 8 bytes a value
             check_disk(out, steps * _values_per_step(parsed) * 8)
-    if streamed:
+    if on_physics is not None:
+        summary, physics_record = physics_run.run_physics(parsed, *on_physics)
+        summary["outside_limits"] = outside
+        summary |= extra
+        _judge(summary, tolerance)
+        if out is not None:
+            with results_folder(out, "simulate") as staging:
+                _write_physics(staging, origin, name, physics_record, summary)
+    elif streamed:
         folder = results_folder(out, "simulate") if out is not None else contextlib.nullcontext(None)
         with folder as staging:
             summary, last = stream(parsed, staging, quiet=json_output, chunk=STREAM_STEPS)
@@ -418,6 +452,8 @@ def simulate_command(
         typer.echo(dump_json(summary))
     else:
         _print(title, parsed, steps, summary, out)
+    if summary.get("stopped"):
+        not_reached("simulate", f"the physics run stopped at {summary['stopped']}")
     if not summary["reached"]:
         _not_reached(summary, _unit(parsed.law.controlled_task(parsed.task)), steps)
 

@@ -60,6 +60,14 @@ def view_command(
     reachability: Path | None = typer.Option(
         None, "--map", help="A reachability map's store (mobman map --store) to draw around the platform."
     ),
+    scene_path: Path | None = typer.Option(
+        None,
+        "--scene",
+        help="Scene file (TOML, [[obstacle]] tables, optional floor): its obstacles and the closest pair's segment.",
+    ),
+    spheres: bool = typer.Option(
+        False, "--spheres", help="Start with the robot's collision spheres shown (a panel box toggles them)."
+    ),
     keep_out: list[str] | None = FloorOption.keep_out,
     footprint: str | None = FloorOption.footprint,
     params: list[str] | None = typer.Option(None, "--param", help="Robot parameter NAME=VALUE."),
@@ -106,11 +114,23 @@ def view_command(
     if reachability is not None:
         drawn = load_map(reachability, robot)
     regions, disc = floor_arguments(robot, keep_out, footprint)
+    clearance = None
+    if scene_path is not None or spheres:
+        from mobman.cli.distance import robot_collision_model
+        from mobman.io import scene as scene_file
+        from mobman.model.collision_model import DEFAULT_TOLERANCE
+        from mobman.model.scene import Scene
+
+        world = Scene() if scene_path is None else scene_file.load(scene_path)
+        name = robot.name if results_as_robot else robot_name
+        clearance = (world, robot_collision_model(name, robot, urdf, DEFAULT_TOLERANCE))
     viewer = Viewer(robot, host=host, port=port, normalized=normalized, dynamics=dynamics)
     try:
         if disc is not None:
             boxes = [[r.x_min, r.x_max, r.y_min, r.y_max] for r in regions]
             viewer.show_floor(boxes, (disc.radius, disc.x, disc.y))
+        if clearance is not None:
+            viewer.show_scene(*clearance, spheres=spheres)
         if drawn is not None:
             viewer.show_map(drawn.centres()[drawn.reached], drawn.score[drawn.reached], drawn.step)
         if results is not None:

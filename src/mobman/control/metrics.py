@@ -15,6 +15,10 @@
   u = T⁻¹ η_p (None for a platform without per-wheel limits): above 1, the commanded η leaves the limits;
 - the law's flags: for every boolean entry of the recorded ``info`` (``speed_limited``, ``joint_limited`` of
   :class:`~mobman.control.laws.WholeBodyQP`), ``<name>_steps`` = the number of samples where it holds;
+- collisions (the QP law with a scene, :mod:`mobman.control.avoidance`): ``min_distance`` (m) the least
+  distance of the nearest pair of the law's collision spheres over the samples, ``closest_pair`` its two names
+  and ``closest_time`` (s), ``collision_violations`` the number of samples closer than the law's
+  ``collision_margin``, ``collision_slack_max`` the largest slack the dampers took (m/s);
 - ``control_effort`` = ∫ ‖η‖² dt (rectangle rule);
 - ``acceleration_variation`` = Σ_k ‖η̇_{k+1} − η̇_k‖ with η̇ by finite differences: the total variation of the
   quasi-accelerations, large when the platform jerks or manoeuvres.
@@ -116,6 +120,7 @@ class RunningSummary:
         self._measures: dict[str, list[float]] = {}
         self._flags: dict[str, int] = {}
         self._ratios = [0.0, 0.0]  # the largest velocity and wheel-speed ratios
+        self._nearest: dict | None = None  # the collision metrics, with a scene
 
     def add(self, piece: SimulationResult) -> None:
         """Feed the next samples: a :class:`~mobman.control.simulation.SimulationResult` of one run."""
@@ -176,10 +181,43 @@ class RunningSummary:
                 self.robot.platform.eta_to_wheel_speeds(piece.eta[:, : self.robot.platform.n_eta])
             )
             self._ratios[1] = max(self._ratios[1], float(np.max(np.abs(speeds) / wheels)))
+        if "min_distance" in piece.info:
+            self._collisions(piece, t)
         for name, values in piece.measures.items():
             low, high = float(np.min(values)), float(np.max(values))
             seen = self._measures.get(name, [low, high])
             self._measures[name] = [min(seen[0], low), max(seen[1], high), float(values[-1])]
+
+    def _collisions(self, piece: SimulationResult, t: np.ndarray) -> None:
+        """Feed the collision metrics (module docstring) of a run of the QP law with a scene; the closest pair
+        is named where the result carries its law (an index into its pairs for a batch of laws)."""
+        from mobman.collision import pair_names
+        from mobman.control.laws import WholeBodyQP
+
+        law = piece.law
+        names, margin = None, None
+        if isinstance(law, WholeBodyQP) and law.scene is not None:
+            names = pair_names(law.collision_model(self.robot), law.scene)
+            margin = law.collision_margin
+        distance = np.asarray(piece.info["min_distance"])
+        k = int(np.argmin(distance))
+        seen = self._nearest or {
+            "min_distance": np.inf,
+            "collision_violations": 0,
+            "collision_slack_max": 0.0,
+        }
+        if margin is not None:
+            seen["collision_violations"] += int(np.count_nonzero(distance < margin))
+        slack = float(np.max(piece.info["collision_slack"]))
+        seen["collision_slack_max"] = max(seen["collision_slack_max"], slack)
+        if distance[k] < seen["min_distance"]:
+            pair = int(piece.info["closest_pair"][k])
+            seen |= {
+                "min_distance": float(distance[k]),
+                "closest_time": float(t[k]),
+                "closest_pair": pair if names is None else list(names[pair]),
+            }
+        self._nearest = seen
 
     def metrics(self) -> dict:
         """The metrics of the samples fed so far, as a JSON-friendly dict."""
@@ -213,6 +251,8 @@ class RunningSummary:
         out["wheel_speed_ratio"] = None if wheels is None else self._ratios[1]
         for name, count in self._flags.items():
             out[f"{name}_steps"] = count
+        if self._nearest is not None:
+            out |= self._nearest
         for name, (low, high, final) in self._measures.items():
             out[f"{name}_min"], out[f"{name}_max"], out[f"{name}_final"] = low, high, final
         return out

@@ -42,7 +42,18 @@ which = "system"
 [gains]
 W = 2.0                          # bayle: W (error), k (self-motion); nait-chabane: W (null space), feedback
 k = 1.0                          # augmented: feedback
+
+[physics]                        # optional: run on a physics engine (mobman.physics, docs/physics.md)
+engine = "mujoco"                # or leave it out and give ``mobman simulate --physics mujoco``
+timestep = 0.001                 # s, the physics step
+control_rate = 100.0             # Hz, the law's rate (default 1 / dt); its period a multiple of timestep
+friction = 1.0                   # the wheels' sliding friction on the floor
+payload = 0.0                    # kg held at the first arm's tool
 ```
+
+A ``[scene]`` table (``[[scene.obstacle]]`` tables and ``floor``, the form of a scene file:
+:mod:`mobman.io.scene`) or ``scene = "scene.toml"`` (relative to the spec) gives the obstacles that the ``qp``
+law avoids, with ``[law]`` options ``collision_margin``, ``influence_distance``, ``collision_gain`` (docs/collision.md).
 
 Every mistake raises :class:`~mobman.InputError` naming the field (``reference.period``, ``gains.W`` …) and
 what is allowed; the command line turns it into one line and exit status 2.
@@ -61,10 +72,12 @@ from mobman.control import criteria, laws, references
 from mobman.control.simulation import INTEGRATORS, SimulationResult, parse_measure_names, simulate
 from mobman.errors import InputError, MobmanError
 from mobman.io import robot_file, tasks
+from mobman.io import scene as scene_file
 from mobman.io import spec as fields
 from mobman.io.numbers import parse_vector
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
+from mobman.model.scene import Scene
 from mobman.model.tasks import Task
 
 TOP_KEYS = (
@@ -79,7 +92,56 @@ TOP_KEYS = (
     "law",
     "criterion",
     "gains",
+    "scene",
+    "physics",
 )
+
+ENGINES = ("mujoco",)
+"""The physics engines a spec's ``[physics]`` table (``mobman simulate --physics``) may name."""
+
+
+@dataclass(frozen=True)
+class PhysicsSettings:
+    """The ``[physics]`` table: the run on a physics engine (:mod:`mobman.physics`) instead of mobman's
+    kinematic integration. ``engine`` (one of :data:`ENGINES`; None: the table only sets the numbers, the
+    command line's ``--physics`` picks the engine), ``timestep`` the physics step h (s), ``control_rate`` the
+    law's rate 1/h_c (Hz; h_c a whole multiple of h), ``friction`` the wheels' sliding friction on the floor,
+    ``payload`` a mass (kg) held at the first arm's tool."""
+
+    engine: str | None = None
+    timestep: float = 1e-3
+    control_rate: float = 100.0
+    friction: float = 1.0
+    payload: float = 0.0
+
+    @property
+    def substeps(self) -> int:
+        """Physics steps per control period h_c / h."""
+        return round(1.0 / (self.control_rate * self.timestep))
+
+
+def physics_settings(table: dict, dt: float, field: str = "physics") -> PhysicsSettings:
+    """The :class:`PhysicsSettings` of a ``[physics]`` table (``control_rate`` by default 1 / the spec's
+    ``dt``); InputError naming the field: an unknown engine, a non-positive step, rate or friction, a
+    negative payload, a control period that is not a whole multiple of the physics step."""
+    fields.keys(table, field, ("engine", "timestep", "control_rate", "friction", "payload"))
+    engine = fields.text(table, "engine", field, allowed=ENGINES)
+    settings = PhysicsSettings(
+        engine,
+        fields.number(table, "timestep", field, 1e-3, positive=True),
+        fields.number(table, "control_rate", field, 1.0 / dt, positive=True),
+        fields.number(table, "friction", field, 1.0, positive=True),
+        fields.number(table, "payload", field, 0.0),
+    )
+    if settings.payload < 0:
+        raise InputError(f"{field}.payload: a mass ≥ 0 kg, got {settings.payload!r}")
+    period = 1.0 / settings.control_rate
+    if settings.substeps < 1 or not np.isclose(settings.substeps * settings.timestep, period, rtol=1e-9):
+        raise InputError(
+            f"{field}.control_rate: {settings.control_rate:g} Hz, its period {period:g} s is not a whole "
+            f"multiple of {field}.timestep {settings.timestep:g} s"
+        )
+    return settings
 
 
 @dataclass
@@ -95,6 +157,7 @@ class Spec:
     dt: float
     measures: tuple[str, ...]
     integrator: str
+    physics: PhysicsSettings | None = None
 
     def arguments(self) -> dict[str, Any]:
         """The keyword arguments of :func:`mobman.control.simulate` (and ``simulate_pieces``) it sets."""
@@ -268,7 +331,30 @@ def parse(data: dict, base: Path | None = None, robot: MobileManipulator | None 
     dt = fields.number(data, "dt", "", positive=True)
     if dt > duration:
         raise InputError(f"dt: {dt} s is longer than duration {duration} s")
-    return Spec(robot, task, law, reference, q0, duration, dt, tuple(measures), integrator)
+    if "scene" in data:
+        law = with_scene(law, _scene(data["scene"], base))
+    physics_table = fields.table(data, "physics", "physics", required=False)
+    physics = None if physics_table is None else physics_settings(physics_table, dt)
+    return Spec(robot, task, law, reference, q0, duration, dt, tuple(measures), integrator, physics)
+
+
+def _scene(value: Any, base: Path | None) -> Scene:
+    """The scene of a spec's ``scene`` entry: a ``[scene]`` table or a scene file's path (relative to ``base``)."""
+    if isinstance(value, str):
+        path = Path(value) if base is None else base / value
+        return scene_file.load(path)
+    if not isinstance(value, dict):
+        raise InputError(
+            f'scene: a [scene] table or a scene file\'s path (scene = "scene.toml"), got {value!r}'
+        )
+    return scene_file.parse(value, "scene")
+
+
+def with_scene(law: laws.Law, scene: Scene) -> laws.Law:
+    """``law`` avoiding the obstacles of ``scene`` (only the ``qp`` law does)."""
+    if not isinstance(law, laws.WholeBodyQP):
+        raise InputError(f'scene: the {law.kind} law does not avoid collisions; give [law] kind = "qp"')
+    return dataclasses.replace(law, scene=scene)
 
 
 def load(path: Path) -> Spec:
@@ -278,4 +364,4 @@ def load(path: Path) -> Spec:
         return parse(data, Path(path).parent)
 
 
-__all__ = ["Spec", "load", "parse"]
+__all__ = ["ENGINES", "PhysicsSettings", "Spec", "load", "parse", "physics_settings", "with_scene"]

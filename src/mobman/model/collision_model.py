@@ -50,6 +50,12 @@ from mobman.model.visual import Visual
 DEFAULT_TOLERANCE = 0.05
 """The default cover tolerance τ (m): how far the spheres may reach beyond the shapes they cover."""
 
+CONTROL_TOLERANCE = 0.1
+"""The cover tolerance τ (m) of the collision avoidance in the control loop
+(:class:`~mobman.control.laws.WholeBodyQP`): a lean cover, evaluated at every law step (TIAGo: 179 spheres, 6071
+self sphere pairs, against 854 and 60 k at :data:`DEFAULT_TOLERANCE`); the robot keeps its margin plus at most
+τ from the obstacles."""
+
 Body = tuple[int, int]
 """A body: (-1, 0) for the platform, (arm, link) for the link joint ``link`` of arm ``arm`` moves."""
 
@@ -179,8 +185,9 @@ def body_poses(robot: MobileManipulator, q: np.ndarray) -> list[tuple[np.ndarray
     return poses
 
 
-def default_pairs(model: CollisionModel) -> tuple[tuple[int, int], ...]:
-    """Every pair of bodies but neighbours and those whose spheres overlap at :func:`neutral_posture`."""
+def default_pairs(model: CollisionModel, clearance: float = 0.0) -> tuple[tuple[int, int], ...]:
+    """Every pair of bodies but neighbours and those whose spheres overlap at :func:`neutral_posture` (come
+    closer than ``clearance``, m: a controller that keeps a margin disables the pairs within it there)."""
     bodies = model.bodies
     index = {b: i for i, b in enumerate(bodies)}
     neighbours = {(0, index[(a, 0)]) for a in range(len(model.robot.arms))}
@@ -197,7 +204,8 @@ def default_pairs(model: CollisionModel) -> tuple[tuple[int, int], ...]:
     radii = np.array([s.radius for s in model.spheres])
     gap = np.linalg.norm(centres[:, None] - centres[None], axis=-1) - radii[:, None] - radii[None]
     overlapping = {
-        (min(body_of[i], body_of[j]), max(body_of[i], body_of[j])) for i, j in zip(*np.nonzero(gap < 0))
+        (min(body_of[i], body_of[j]), max(body_of[i], body_of[j]))
+        for i, j in zip(*np.nonzero(gap < clearance))
     }
     present = sorted(set(body_of.tolist()))
     return tuple(
@@ -400,6 +408,7 @@ def cover(shape: Visual, tolerance: float = DEFAULT_TOLERANCE) -> tuple[np.ndarr
 
 
 __all__ = [
+    "CONTROL_TOLERANCE",
     "DEFAULT_TOLERANCE",
     "PLATFORM",
     "Body",

@@ -23,9 +23,9 @@ record up to that instant is kept and :attr:`PhysicsRun.stopped` says when and w
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import partial
-from typing import Any
+from dataclasses import dataclass, field
+from functools import lru_cache, partial
+from typing import Any, Callable
 
 import jax
 import jax.numpy as jnp
@@ -36,6 +36,7 @@ from mobman.control.laws import Law
 from mobman.control.references import Reference
 from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
+from mobman.model.platforms.base import Platform
 from mobman.model.platforms.car import CarLike
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Task
@@ -49,21 +50,68 @@ class PhysicsRun:
 
     ``q`` (N, n_q) measured, ``eta`` (N, n_eta) commanded, ``slip`` (N, n_q_p − n_eta_p) the platform's
     constraint violation G(q_p) q̇_p (m/s), ``stopped`` None for a complete run, else the time and reason it
-    stopped."""
+    stopped; ``series`` what a ``probe`` of :func:`run_on_physics` recorded, by name, one row per instant."""
 
     t: np.ndarray
     q: np.ndarray
     eta: np.ndarray
     slip: np.ndarray
     stopped: str | None = None
+    series: dict[str, np.ndarray] = field(default_factory=dict)
 
 
-@partial(jax.jit, static_argnums=(0, 1))
-def _control(
-    robot: MobileManipulator, task: Task, law: Law, reference: Reference, q: jax.Array, t: jax.Array
-) -> jax.Array:
-    xi_star, xi_star_dot = reference(t)
-    return law(robot, task, q, t, xi_star, xi_star_dot).eta
+Probe = Callable[[Any], Callable[[Any], dict[str, np.ndarray]]]
+"""A function of the compiled ``MjModel`` giving the function of the ``MjData`` that :func:`run_on_physics`
+calls at every recorded instant (:mod:`mobman.physics.probe`)."""
+
+UNSTABLE = ("BADQPOS", "BADQVEL", "BADQACC", "BADCTRL")
+"""MuJoCo's warnings that stop a run: a non-finite or huge position, velocity, acceleration or command."""
+
+
+def compiled_control(
+    robot: MobileManipulator, task: Task, law: Law, reference: Reference
+) -> Callable[[np.ndarray, float], np.ndarray]:
+    """η = law(q, t, ξ*(t), ξ̇*(t)) for one measured configuration q (n_q,) at time t, as a NumPy array: the
+    law and the reference compiled ahead of time into one program (``jax.jit(…).lower(…).compile()``), their
+    numbers flattened once, so that a call passes only arrays (no tracing-cache lookup, no pytree walk of
+    the law). The program is shared by every law and reference of the same structure (as :func:`jax.jit`'s
+    cache shares it): a new gain or a new line does not compile again."""
+    leaves, tree = jax.tree_util.tree_flatten((law, reference))
+    leaves = [jnp.asarray(leaf) for leaf in leaves]
+    program = _control_program(robot, task, tree, tuple((leaf.shape, leaf.dtype) for leaf in leaves))
+    return lambda q, t: np.asarray(program(leaves, q, t))
+
+
+@lru_cache(maxsize=16)
+def _control_program(
+    robot: MobileManipulator, task: Task, tree: Any, shapes: tuple[tuple[tuple[int, ...], Any], ...]
+) -> Any:
+    def control(leaves: list[jax.Array], q: jax.Array, t: jax.Array) -> jax.Array:
+        law, reference = jax.tree_util.tree_unflatten(tree, leaves)
+        xi_star, xi_star_dot = reference(t)
+        return law(robot, task, q, t, xi_star, xi_star_dot).eta
+
+    arguments = [jax.ShapeDtypeStruct(shape, dtype) for shape, dtype in shapes]
+    return jax.jit(control).lower(arguments, jnp.zeros(robot.n_q), jnp.zeros(())).compile()
+
+
+def _slip_record(platform: Platform, q: np.ndarray, rates: np.ndarray) -> np.ndarray:
+    """G(q_p) q̇_p (N, n_q_p − n_eta_p) over a record of configurations q (N, n_q) and measured platform
+    rates (N, n_q_p): the constraint violation, in one compiled call on the record padded to a power of two
+    (runs of similar lengths share the program)."""
+    n, rows = len(q), platform.n_q - platform.n_eta
+    if not (n and rows):
+        return np.zeros((n, rows))
+    size = 1 << (n - 1).bit_length()
+    q_p = np.zeros((size, platform.n_q))
+    padded = np.zeros((size, platform.n_q))
+    q_p[:n], padded[:n] = q[:, : platform.n_q], rates
+    return np.asarray(_slip(platform, q_p, padded))[:n]
+
+
+@partial(jax.jit, static_argnums=0)
+def _slip(platform: Platform, q_p: jax.Array, rates: jax.Array) -> jax.Array:
+    return jax.vmap(lambda qi, ri: platform.constraints(qi) @ ri)(q_p, rates)
 
 
 class _Commands:
@@ -82,6 +130,8 @@ class _Commands:
             self.steering = model.actuator("steering").id
         else:
             self.platform = np.array([model.actuator(n).id for n in platform.actuator_names], dtype=int)
+            # u = T⁻¹ η_p (eta_to_wheel_speeds) as a NumPy matrix: one product per control step
+            self.to_speeds = np.linalg.inv(platform.actuator_matrix()) if platform.wheel_actuated else None
 
     def apply(self, data: Any, q: np.ndarray, eta: np.ndarray) -> None:
         platform, n_p = self.robot.platform, self.robot.platform.n_eta
@@ -94,8 +144,7 @@ class _Commands:
                 data.ctrl[actuator] = speed / site.radius
             data.ctrl[self.steering] = u2
         elif n_p:
-            speeds = platform.eta_to_wheel_speeds(eta_p) if platform.wheel_actuated else eta_p
-            data.ctrl[self.platform] = np.asarray(speeds)
+            data.ctrl[self.platform] = eta_p if self.to_speeds is None else self.to_speeds @ eta_p
         data.ctrl[self.joints] = eta[n_p:]
 
 
@@ -111,6 +160,7 @@ def run_on_physics(
     friction: float = 1.0,
     timestep: float = 1e-3,
     torque_limits: npt.ArrayLike | None = None,
+    probe: Probe | None = None,
 ) -> PhysicsRun:
     """Run ``law`` tracking ``reference`` (of ``task``, default the robot's) from q0 for ``duration`` seconds
     on the MuJoCo model of ``robot`` (:func:`to_mjspec` with ``friction``, ``timestep``, ``torque_limits``),
@@ -130,32 +180,41 @@ def run_on_physics(
     data = mj.MjData(model)
     set_configuration(model, data, kinematic, q0)
     commands = _Commands(model, kinematic)
+    control = compiled_control(kinematic, task, law, reference)
     n = int(round(duration / control_dt))
-    n_p = kinematic.platform.n_q
-    ts, qs, etas, slips = [], [], [], []
+    ts, qs, etas, rates = [], [], [], []
+    sample, samples = None if probe is None else probe(model), []
     stopped = None
     for k in range(n + 1):  # t_0 … t_N = duration, as mobman.control.simulation records
         q = measured_q(model, data, kinematic)
-        eta = np.asarray(_control(kinematic, task, law, reference, q, k * control_dt))
+        eta = control(q, k * control_dt)
         if not np.all(np.isfinite(q)) or not np.all(np.isfinite(eta)):
             stopped = f"t = {k * control_dt:.6g} s: non-finite state or command"
             break
         ts.append(k * control_dt)
         qs.append(q)
         etas.append(eta)
-        slips.append(
-            np.asarray(kinematic.platform.constraints(jnp.asarray(q[:n_p])))
-            @ _platform_rates(model, data, kinematic)
-        )
+        rates.append(_platform_rates(model, data, kinematic))
+        if sample is not None:
+            samples.append(sample(data))
         if k == n:
             break
         commands.apply(data, q, eta)
         for _ in range(substeps):
             mj.mj_step(model, data)
-        if data.warning[mj.mjtWarning.mjWARN_BADQACC].number:
-            stopped = f"t = {data.time:.6g} s: MuJoCo reports an unstable step (bad acceleration)"
+        unstable = [w for w in UNSTABLE if data.warning[getattr(mj.mjtWarning, f"mjWARN_{w}")].number]
+        if unstable:
+            stopped = (
+                f"t = {k * control_dt:.6g} to {(k + 1) * control_dt:.6g} s: MuJoCo reports an unstable step "
+                f"({', '.join(unstable)}: a non-finite or huge value; MuJoCo reset its state)"
+            )
             break
-    return PhysicsRun(np.array(ts), np.array(qs), np.array(etas), np.array(slips), stopped)
+    q_record = np.array(qs).reshape(len(qs), kinematic.n_q)
+    slip = _slip_record(kinematic.platform, q_record, np.array(rates).reshape(len(qs), -1))
+    series = {name: np.array([s[name] for s in samples]) for name in (samples[0] if samples else {})}
+    return PhysicsRun(
+        np.array(ts), q_record, np.array(etas).reshape(len(qs), kinematic.n_eta), slip, stopped, series
+    )
 
 
 def _platform_rates(model: Any, data: Any, robot: MobileManipulator) -> np.ndarray:

@@ -41,7 +41,7 @@ The model (:func:`to_mjspec`; :func:`mjcf_text` is the MJCF file MuJoCo's viewer
   position, so a joint at rest stays put up to the static deflection τ_gravity / k_p), both clamped to the
   torque limits (``torque_limits``, default the joints' ``effort_max``) and their commands to mobman's
   speed limits. Gains: a first-order velocity response of time constant 0.02 s for the wheels (the robot's
-  mass reflected through them), a critically damped position servo of 10 Hz for the joints (the inertia
+  mass reflected through them), a critically damped position servo of 25 Hz for the joints (the inertia
   MuJoCo computes at the compiled configuration). The DC-motor torque–speed line of
   :class:`mobman.dynamics.DCMotor` is not modelled (a constant torque box).
 
@@ -78,7 +78,7 @@ KINDS = ("differential", "skid_steer", "car", "omnidirectional", "fixed")
 WHEEL_TIME_CONSTANT = 0.02
 """Time constant (s) of the wheel velocity servos' first-order response."""
 
-JOINT_SERVO_HZ = 10.0
+JOINT_SERVO_HZ = 25.0
 """Natural frequency (Hz) of the arm joints' position servos (critically damped)."""
 
 CASTER_FRICTION = 0.0

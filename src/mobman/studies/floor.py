@@ -11,6 +11,11 @@ from c to the rectangle,
 
 is less than the radius (a disc that touches a side does not overlap it).
 
+A scene's boxes that stand on the floor (their lowest corner within :data:`ON_FLOOR` of the scene's floor,
+z = 0 without one) are keep-out regions too (:func:`scene_regions`): each the rectangle with sides along x and
+y that holds the box seen from above (the box itself for a box turned about the vertical only by multiples of
+a right angle, a larger one otherwise).
+
 :func:`footprint_disc` finds the disc of a robot from the shapes the viewer draws for its platform
 (``MobileManipulator.platform_visuals``: a URDF's visuals of the base and everything fixed to it, wheels
 and casters included): every shape's points projected on the floor, the disc centred on their bounding box
@@ -31,8 +36,13 @@ import numpy.typing as npt
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
 from mobman.model.robot import MobileManipulator
+from mobman.model.scene import Scene
 from mobman.model.visual import Visual
 from mobman.studies import options
+
+ON_FLOOR = 0.01
+"""Largest height (m) of a box's lowest corner above the floor for it to stand on the floor
+(:func:`scene_regions`)."""
 
 ROUND_POINTS = 64
 """Points per circle of a cylinder's or a sphere's outline; the circle through them is widened by
@@ -114,6 +124,21 @@ def keep_out_regions(
     return tuple(KeepOut.of(region) for region in value)  # type: ignore[union-attr]
 
 
+def scene_regions(scene: Scene) -> tuple[KeepOut, ...]:
+    """The keep-out regions of ``scene``'s boxes standing on the floor (module notes)."""
+    floor = 0.0 if scene.floor is None else scene.floor
+    signs = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1], indexing="ij")).reshape(3, -1).T
+    regions = []
+    for obstacle in scene.obstacles:
+        if obstacle.shape != "box":
+            continue
+        corners = (signs * np.asarray(obstacle.size) / 2) @ obstacle.rotation.T + obstacle.position
+        if corners[:, 2].min() <= floor + ON_FLOOR:
+            low, high = corners[:, :2].min(axis=0), corners[:, :2].max(axis=0)
+            regions.append(KeepOut(float(low[0]), float(high[0]), float(low[1]), float(high[1])))
+    return tuple(regions)
+
+
 def blocked(bases: npt.ArrayLike, footprint: FootprintDisc, regions: Sequence[KeepOut]) -> np.ndarray:
     """Which platform poses (x, y, θ) of ``bases`` (N, 3) put the footprint's disc over a keep-out region,
     shape (N,) (module notes)."""
@@ -180,4 +205,13 @@ def _mesh_vertices(visual: Visual) -> np.ndarray:
     return np.asarray(mesh.vertices, dtype=float)  # type: ignore[attr-defined]
 
 
-__all__ = ["FootprintDisc", "KeepOut", "ROUND_POINTS", "blocked", "footprint_disc", "keep_out_regions"]
+__all__ = [
+    "FootprintDisc",
+    "KeepOut",
+    "ON_FLOOR",
+    "ROUND_POINTS",
+    "blocked",
+    "footprint_disc",
+    "keep_out_regions",
+    "scene_regions",
+]

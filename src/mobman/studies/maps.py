@@ -8,6 +8,10 @@ when the tool gets within ``tolerance`` of p; it is scored by a manipulability m
 (:mod:`mobman.manipulability`): Yoshikawa's w, the inverse condition number w2 or the eccentricity w5 of the
 arm's position Jacobian J_a (its rows along the axes the tool moves: x and y for a planar arm) (``level="arm"``: how well the arm alone moves its tool there) or of the whole
 system's J̄ = J S (``level="system"``, Bayle eq. 2: with what the platform's admissible velocities add).
+Given a collision model or a scene, a start's posture counts only when it is free of collision: of the robot
+with itself (the self pairs of its collision model) and with the scene's obstacles and floor
+(:mod:`mobman.studies.clearance`); a cell that only colliding postures reach is ``colliding``, not reached
+(TIAGo's hand held inside its own base, for one).
 
 Such a map (a capability or reachability map: Zacharias, Borst, Hirzinger, IROS 2007; Vahrenkamp, Asfour,
 Dillmann, ICRA 2013) answers design and placement questions for a whole workspace at once. It is a study of
@@ -29,11 +33,15 @@ import numpy.typing as npt
 
 from mobman import kinematics as K
 from mobman.errors import InputError
+from mobman.manipulability import MEASURES
+from mobman.model.collision_model import CollisionModel
 from mobman.model.robot import MobileManipulator
+from mobman.model.scene import Scene
 from mobman.model.tasks import Position, Task
 from mobman.redundancy import sample_configurations
 from mobman.studies import options
 from mobman.studies import store as studies
+from mobman.studies.clearance import Clearance, clearance_of, free_postures
 from mobman.studies.reaching import best, reach, starting_postures
 
 MAX_CELLS = 10_000_000
@@ -53,7 +61,10 @@ class ReachabilityMap:
     reached) and ``q`` (…, n_q: the posture, the platform's coordinates 0; NaN where not computed), and
     ``computed`` (False for cells of an unfinished study read back from its store). ``arm``: whose tool;
     ``scored``: the tool's coordinates the measure's rows are (the axes it moves along); ``digest``:
-    :func:`robot_digest` of the robot it was computed for; ``step``: the distance between cell centres (m)."""
+    :func:`robot_digest` of the robot it was computed for; ``step``: the distance between cell centres (m);
+    ``colliding``: cells that a start reached only with postures in collision (module notes; all False when
+    the postures were not checked); ``clearance``: what they were checked against
+    (:meth:`mobman.studies.clearance.Clearance.describe`), None when not."""
 
     axes: tuple[np.ndarray, np.ndarray, np.ndarray]
     reached: np.ndarray
@@ -68,6 +79,8 @@ class ReachabilityMap:
     scored: str = "xyz"
     digest: str = ""
     step: float = 0.0
+    colliding: np.ndarray | None = None
+    clearance: dict | None = None
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -130,9 +143,23 @@ def default_bounds(tool: np.ndarray, step: float) -> np.ndarray:
     return bounds
 
 
+def grid_shape(bounds: np.ndarray, step: float) -> tuple[int, int, int]:
+    """The cells along each axis of :func:`grid_axes`, counted before any is made: an InputError naming
+    ``step`` when they are more than :data:`MAX_CELLS` in all."""
+    shape = tuple(math.floor((hi - lo) / step + 1e-9) + 1 for lo, hi in bounds)
+    cells = math.prod(shape)
+    if cells > MAX_CELLS:
+        raise InputError(
+            f"step {step:g} m makes {cells:,} cells ({' × '.join(f'{n:,}' for n in shape)}), more than "
+            f"{MAX_CELLS:,}: give a larger step or smaller bounds"
+        )
+    return shape
+
+
 def grid_axes(bounds: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Cell centres along each axis: from its lower bound, ``step`` apart, up to its upper bound."""
-    return tuple(lo + step * np.arange(math.floor((hi - lo) / step + 1e-9) + 1) for lo, hi in bounds)
+    """Cell centres along each axis: from its lower bound, ``step`` apart, up to its upper bound
+    (:func:`grid_shape`)."""
+    return tuple(lo + step * np.arange(n) for (lo, _), n in zip(bounds, grid_shape(bounds, step)))
 
 
 def reachability_map(
@@ -147,6 +174,8 @@ def reachability_map(
     measure: str = "yoshikawa",
     level: str = "arm",
     seed: int = 0,
+    collision: CollisionModel | None = None,
+    scene: Scene | None = None,
     store: str | None = None,
     chunk: int | None = None,
     scheduler: str | None = None,
@@ -159,25 +188,28 @@ def reachability_map(
     starting postures per cell and damped least-squares steps from each (:mod:`mobman.studies.reaching`;
     the starts are seeded by ``seed``); ``tolerance``: the largest distance (m) of a reached cell's centre;
     ``measure``: one of :data:`mobman.manipulability.MEASURES`; ``level``: ``"arm"`` or ``"system"``.
-    ``store``, ``chunk``, ``scheduler``, ``progress``: where and how the cells are computed
+    ``collision``: the robot's collision model, whose self pairs (and, with ``scene``, whose spheres against
+    the scene's obstacles and floor, the platform parked at the origin) a posture must be free of; with a
+    ``scene`` alone, the robot's :func:`~mobman.model.collision_model.collision_model` at
+    :data:`mobman.studies.clearance.COVER_TOLERANCE`; neither: postures are not checked. ``store``, ``chunk``, ``scheduler``, ``progress``: where and how the cells are computed
     (:func:`mobman.studies.store.run`); a store that holds this map, finished or not, is read and completed.
     """
-    if not (isinstance(arm, (int, np.integer)) and 0 <= arm < len(robot.arms)):
+    studies.check_options(store, chunk, scheduler)
+    if not (isinstance(arm, (int, np.integer)) and 0 <= arm < len(K.checked_robot(robot).arms)):
         raise InputError(f"arm must be an integer from 0 to {len(robot.arms) - 1}, got {arm!r}")
     step = options.distance(step, "step")
-    starts, iterations = options.count(starts, "starts"), options.count(iterations, "iterations")
-    tolerance = options.distance(tolerance, "tolerance")
+    starts, iterations = options.count(starts, "starts"), options.iterations(iterations)
+    tolerance = options.tolerance(tolerance)
+    seed = options.seed(seed)
     options.scoring(measure, level)
+    checks = clearance_of(robot, collision, scene)
     tool = tool_positions(robot, int(arm))
     box = default_bounds(tool, float(step)) if bounds is None else parse_bounds(bounds)
     axes = grid_axes(box, float(step))
-    shape = tuple(len(a) for a in axes)
-    cells = math.prod(shape)
-    if cells > MAX_CELLS:
-        raise InputError(
-            f"step {step:g} m makes {cells:,} cells ({' × '.join(map(str, shape))}), more than {MAX_CELLS:,}: "
-            "give a larger step or smaller bounds"
-        )
+    cells = math.prod(len(a) for a in axes)
+    # the solver's rows of a chunk, each start's Jacobian (3 × n_q) and posture at once
+    rows = min(cells, chunk if isinstance(chunk, int) and chunk > 0 else studies.CHUNK)
+    options.memory({"starts": starts, "chunk": rows}, rows * starts * robot.n_q * 4)
     task = Position("xyz", arm=arm)
     scored = scored_task(tool, int(arm))
     columns = {
@@ -185,6 +217,7 @@ def reachability_map(
         "error": studies.Column(),
         "score": studies.Column(),
         "q": studies.Column((robot.n_q,)),
+        "colliding": studies.Column((), "bool", False),
     }
     definition = {
         "study": KIND,
@@ -200,10 +233,11 @@ def reachability_map(
         "level": level,
         "scored": scored.components,
         "seed": int(seed),
+        "clearance": None if checks is None else checks.describe(),
     }
     compute = partial(
         _cells, robot, task, scored, axes, starting_postures(robot, int(starts), int(seed)), int(iterations),
-        float(tolerance), measure, level,
+        float(tolerance), measure, level, checks,
     )  # fmt: skip
     study = studies.run(
         compute, cells, columns, definition, store=store, chunk=chunk, scheduler=scheduler, progress=progress
@@ -216,6 +250,7 @@ def from_study(study: studies.Study) -> ReachabilityMap:
     d = study.definition
     if d.get("study") != KIND:
         raise InputError(f"the study is a {d.get('study')!r}, not a {KIND}")
+    _check_definition(d, len(study.done))
     axes = grid_axes(np.asarray(d["bounds"], dtype=float), float(d["step"]))
     shape = tuple(len(a) for a in axes)
     c = study.columns
@@ -233,7 +268,48 @@ def from_study(study: studies.Study) -> ReachabilityMap:
         scored=d["scored"],
         digest=d["robot_digest"],
         step=float(d["step"]),
+        colliding=c["colliding"].reshape(shape) if "colliding" in c else np.zeros(shape, bool),
+        clearance=d.get("clearance"),
     )
+
+
+def _check_definition(d: dict[str, Any], rows: int) -> None:
+    """A map's definition as :func:`reachability_map` writes it, its grid of ``rows`` cells: an InputError
+    naming the first field that is not (a store edited or damaged)."""
+
+    def field(name: str, ok: Any, allowed: str) -> Any:
+        value = d.get(name)
+        try:
+            good = ok(value)
+        except (TypeError, ValueError):
+            good = False
+        if not good:
+            raise InputError(
+                f"the map's {name} must be {allowed}, got {_shown(value)} (a damaged or edited store)"
+            )
+        return value
+
+    box = parse_bounds(field("bounds", lambda v: np.shape(v) in ((3, 2), (6,)), "6 numbers (3 × 2)"))
+    step = options.distance(field("step", lambda v: float(v) > 0, "a distance > 0 (m)"), "the map's step")
+    cells = math.prod(math.floor((hi - lo) / step + 1e-9) + 1 for lo, hi in box)
+    if cells != rows:
+        raise InputError(
+            f"the map's step {step:g} m and bounds make {cells:,} cells, the store holds {rows:,} "
+            "(a damaged or edited store)"
+        )
+    field("arm", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 0, "an integer ≥ 0")
+    field("tolerance", lambda v: math.isfinite(v) and v > 0, "a distance > 0 (m)")
+    field("measure", lambda v: isinstance(v, str) and v in MEASURES, f"one of {', '.join(MEASURES)}")
+    field(
+        "level", lambda v: isinstance(v, str) and v in options.LEVELS, f"one of {', '.join(options.LEVELS)}"
+    )
+    field("scored", lambda v: isinstance(v, str) and v and set(v) <= set("xyz"), "axes among x, y, z")
+    field("robot_digest", lambda v: isinstance(v, str), "a string")
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:39] + "…"
 
 
 def robot_digest(robot: MobileManipulator) -> str:
@@ -267,23 +343,26 @@ def _cells(
     tolerance: float,
     measure: str,
     level: str,
+    checks: Clearance | None,
     start: int,
     stop: int,
 ) -> dict[str, Any]:
-    """The map's cells [start, stop) in C order: reach each centre (``task``), score the reached ones
-    (``scored``'s rows of J)."""
+    """The map's cells [start, stop) in C order: reach each centre (``task``) with postures free of
+    collision (``checks``), score the reached ones (``scored``'s rows of J)."""
     index = np.unravel_index(np.arange(start, stop), tuple(len(a) for a in axes))
     centres = np.stack([axis[i] for axis, i in zip(axes, index)], axis=-1)
-    q, error, score = best(
-        robot,
-        *reach(robot, np.zeros(3), centres, starts, task, iterations),
-        tolerance,
-        scored,
-        measure,
-        level,
-    )
-    reached = error <= tolerance
-    return {"reached": reached, "error": np.where(np.isinf(error), math.nan, error), "score": score, "q": q}
+    found, errors = reach(robot, np.zeros(3), centres, starts, task, iterations)
+    close = errors <= tolerance
+    free = free_postures(checks, found, close)
+    q, error, score = best(robot, found, errors, tolerance, scored, measure, level, free)
+    reached = ~np.isnan(score)
+    return {
+        "reached": reached,
+        "error": np.where(np.isinf(error), math.nan, error),
+        "score": score,
+        "q": q,
+        "colliding": close.any(axis=-1) & ~reached,
+    }
 
 
 def parse_bounds(value: npt.ArrayLike) -> np.ndarray:
@@ -314,6 +393,7 @@ __all__ = [
     "default_bounds",
     "from_study",
     "grid_axes",
+    "grid_shape",
     "moving_axes",
     "parse_bounds",
     "reachability_map",

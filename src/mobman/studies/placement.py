@@ -15,6 +15,13 @@ the platform's admissible velocities add (Bayle; Nait-Chabane).
 from which the disc covering the platform overlaps one of them: such a base is ``blocked`` and never reaches
 the target, whatever its arm could do from there.
 
+Given a ``scene`` of obstacles (:mod:`mobman.model.scene`) or a collision model, a start's posture counts only
+when the robot there, platform and arm, is free of collision with the scene's obstacles and floor and with
+itself (the self pairs of its collision model; :mod:`mobman.studies.clearance`): the arm reaching over a table
+may not pass through it. A base whose starts reach the target only with colliding postures is ``colliding``
+(counted apart from the blocked ones). The scene's boxes standing on the floor are keep-out regions too
+(:func:`mobman.studies.floor.scene_regions`).
+
 When no base reaches the target, :func:`out_of_reach` says whether the target itself is beyond the robot's
 reach: its height above the highest point (or below the lowest) that the tool reaches with any posture
 within the joint limits (:func:`closest_height`; the platform moves on the floor, so no base changes it),
@@ -33,11 +40,21 @@ import numpy.typing as npt
 from mobman import kinematics as K
 from mobman.errors import InputError
 from mobman.model import spatial
+from mobman.model.collision_model import CollisionModel
 from mobman.model.robot import MobileManipulator
+from mobman.model.scene import Scene
 from mobman.model.tasks import Pose, Position, Task
 from mobman.redundancy import sample_configurations
 from mobman.studies import options
-from mobman.studies.floor import FootprintDisc, KeepOut, blocked, footprint_disc, keep_out_regions
+from mobman.studies.clearance import clearance_of, free_postures
+from mobman.studies.floor import (
+    FootprintDisc,
+    KeepOut,
+    blocked,
+    footprint_disc,
+    keep_out_regions,
+    scene_regions,
+)
 from mobman.studies.maps import ReachabilityMap, robot_digest
 from mobman.studies.options import LEVELS
 from mobman.studies.reaching import best, reach, starting_postures
@@ -61,10 +78,12 @@ class Placement:
     platform poses (x, y, θ); ``q`` (N, n_q): the posture kept for each, (N, K, n_q) for K targets (the
     platform's further coordinates, such as a steering angle, at 0; NaN where J was undefined from every
     start); ``error`` (N,): the norm of the task's error there (inf for those; the largest over several
-    targets); ``reached`` (N,): error ≤ tolerance and not blocked; ``score`` (N,): the measure at the
+    targets); ``reached`` (N,): error ≤ tolerance with a posture free of collision, and not blocked; ``score`` (N,): the measure at the
     posture where reached (the lowest over several targets), 0 where not;
     ``blocked`` (N,): the platform there would overlap a keep-out region (all False without any), and
-    ``footprint`` the disc that covered it (None without keep-out regions). ``best``: the index of
+    ``footprint`` the disc that covered it (None without keep-out regions); ``colliding`` (N,): not blocked,
+    and a start reached the target (every target) but only with postures in collision (module notes; all
+    False without a scene or collision model). ``best``: the index of
     the reached base with the highest score, None when no base reaches the target. ``n_platform``: the
     platform's coordinates at the start of each row of ``q``; ``revolute``: which of the arms' coordinates
     are angles of revolute joints.
@@ -81,6 +100,7 @@ class Placement:
     tolerance: float
     n_platform: int
     blocked: np.ndarray
+    colliding: np.ndarray
     revolute: tuple[bool, ...] = ()
     footprint: FootprintDisc | None = None
 
@@ -242,6 +262,8 @@ def place(
     seed: int = 0,
     keep_out: Sequence[KeepOut | Sequence[float]] = (),
     footprint: FootprintDisc | float | Sequence[float] | None = None,
+    scene: Scene | None = None,
+    collision: CollisionModel | None = None,
 ) -> Placement:
     """Try every platform pose of :func:`candidate_bases` for the task target ξ* ``target`` (m,) (module
     notes) and score the reached ones.
@@ -258,7 +280,10 @@ def place(
     :data:`mobman.manipulability.MEASURES`; ``level``: ``"arm"`` (J_a) or ``"system"`` (J̄); ``keep_out``:
     regions of the floor (:class:`mobman.studies.floor.KeepOut` or x_min, x_max, y_min, y_max) the platform's
     ``footprint`` may not overlap (a :class:`mobman.studies.floor.FootprintDisc`, a radius or radius, x, y;
-    by default :func:`mobman.studies.floor.footprint_disc` of the robot).
+    by default :func:`mobman.studies.floor.footprint_disc` of the robot); ``scene``: the obstacles and floor
+    a posture must be free of (with ``collision``, the robot's collision model, whose self pairs it must be
+    free of too; by default :func:`mobman.model.collision_model.collision_model` at
+    :data:`mobman.studies.clearance.COVER_TOLERANCE` when a scene is given; neither: postures not checked).
     """
     task = K.resolve_task(robot, task)
     targets = _targets(target, task)
@@ -266,21 +291,31 @@ def place(
     radii = np.linspace(0.0, reach_radius(robot), 8) if radii is None else _distances(radii)
     for name, value in (("bearings", bearings), ("headings", headings), ("starts", starts)):
         options.count(value, name)
-    options.count(iterations, "iterations")
-    _check_tolerance(tolerance)
+    options.iterations(iterations)
+    options.seed(seed)
+    options.tolerance(tolerance)
     options.scoring(measure, level)
-    floor = _floor(robot, keep_out, footprint)
+    # every base, target and start at once: a posture and a Jacobian (m × n_q) each
+    pairs = {"radii": len(radii), "bearings": bearings, "headings": headings, "starts": starts}
+    options.memory(pairs, math.prod(pairs.values()) * len(targets) * robot.n_q * (task.dim + 1))
+    checks = clearance_of(robot, collision, scene)
+    floor = _floor(robot, keep_out, footprint, scene)
     bases = candidate_bases(centre, radii, bearings, headings)
     # every base with every target at once: (N, K) pairs, each its best posture (N, K, n_q)
-    q, error, score = best(
-        robot, *reach(robot, bases[:, None], targets, starting_postures(robot, starts, seed), task, iterations),
-        tolerance, task, measure, level,
-    )  # fmt: skip
-    every = np.all(error <= tolerance, axis=1)  # a score where every target is reached (NaN elsewhere)
+    found, errors = reach(
+        robot, bases[:, None], targets, starting_postures(robot, starts, seed), task, iterations
+    )
+    close = errors <= tolerance
+    free = free_postures(checks, found, close)
+    q, error, score = best(robot, found, errors, tolerance, task, measure, level, free)
+    every = ~np.isnan(score).any(axis=1)  # every target reached with a free posture
+    colliding = np.all(close.any(axis=-1), axis=1) & ~every
     error, score = error.max(axis=1), np.where(every, score.min(axis=1), 0.0)
     if np.ndim(target) == 1:  # one target: its posture per base
         targets, q = targets[0], q[:, 0]
-    return _placement(robot, targets, bases, q, error, score, measure, level, tolerance, *floor)
+    return _placement(
+        robot, targets, bases, q, error, score, every, colliding, measure, level, tolerance, *floor
+    )
 
 
 def place_with_map(
@@ -293,6 +328,8 @@ def place_with_map(
     tolerance: float = 1e-6,
     keep_out: Sequence[KeepOut | Sequence[float]] = (),
     footprint: FootprintDisc | float | Sequence[float] | None = None,
+    scene: Scene | None = None,
+    collision: CollisionModel | None = None,
 ) -> Placement:
     """Base placement from a reachability map of the robot's arm (:mod:`mobman.studies.maps`): inverse
     reachability (Vahrenkamp, Asfour, Dillmann, ICRA 2013).
@@ -304,18 +341,24 @@ def place_with_map(
     least-squares steps within the joint limits (:mod:`mobman.studies.reaching`) take the tool onto the
     target ``p`` (x, y, z); a base reaches it within ``tolerance``. Bases are scored by the map's measure and
     level. No inverse kinematics from random starts: a map computed once serves any number of targets.
-    ``keep_out`` and ``footprint``: as in :func:`place`.
+    ``keep_out``, ``footprint``, ``scene`` and ``collision``: as in :func:`place`.
     """
-    if reachability.digest != robot_digest(robot):
+    if not isinstance(reachability, ReachabilityMap):
+        raise InputError(f"reachability must be a ReachabilityMap, got {type(reachability).__name__}")
+    if reachability.digest != robot_digest(K.checked_robot(robot)):
         raise InputError(f"reachability: the map was computed for another robot than {robot.name!r}")
+    if not 0 <= reachability.arm < len(robot.arms):
+        raise InputError(f"reachability: arm {reachability.arm} of a robot with {len(robot.arms)} arm(s)")
     target = options.vector(target, "target", 3, "x, y, z")
-    headings, iterations = options.count(headings, "headings"), options.count(iterations, "iterations")
-    _check_tolerance(tolerance)
-    floor = _floor(robot, keep_out, footprint)
+    headings, iterations = options.count(headings, "headings"), options.iterations(iterations)
+    options.tolerance(tolerance)
+    checks = clearance_of(robot, collision, scene)
+    floor = _floor(robot, keep_out, footprint, scene)
     half = 0.5 * reachability.step + 1e-9
     centres = reachability.centres()
     near = reachability.reached & (np.abs(centres[..., 2] - target[2]) <= half)
     cells, postures = centres[near], reachability.q[near]
+    options.memory({"headings": headings, "cells": len(cells)}, len(cells) * headings * robot.n_q * 4)
     theta = 2.0 * np.pi * np.arange(headings) / headings - np.pi
     c, s = np.cos(theta)[None, :], np.sin(theta)[None, :]
     x = target[0] - (c * cells[:, :1] - s * cells[:, 1:2])
@@ -327,25 +370,31 @@ def place_with_map(
     # and each count would compile the solver again (seconds) for a query that takes a fraction of one
     n = len(bases)
     rows = np.minimum(np.arange(-(-n // BUCKET) * BUCKET), max(n - 1, 0))
-    q, error = reach(robot, bases[rows], target, starts[rows], task, iterations) if n else _nothing(robot)
-    q, error, score = (
-        x[:n] for x in best(
-            robot, q, error, tolerance, Position(reachability.scored, arm=reachability.arm),
-            reachability.measure, reachability.level,
-        )
-    )  # fmt: skip
-    return _placement(
-        robot, target, bases, q, error, score, reachability.measure, reachability.level, tolerance, *floor
+    found, errors = (
+        reach(robot, bases[rows], target, starts[rows], task, iterations) if n else _nothing(robot)
     )
+    close = errors[:n] <= tolerance
+    free = free_postures(checks, found[:n], close)
+    q, error, score = best(
+        robot, found[:n], errors[:n], tolerance, Position(reachability.scored, arm=reachability.arm),
+        reachability.measure, reachability.level, free,
+    )  # fmt: skip
+    every = ~np.isnan(score)
+    return _placement(
+        robot, target, bases, q, error, score, every, close[:, 0] & ~every, reachability.measure,
+        reachability.level, tolerance, *floor,
+    )  # fmt: skip
 
 
 def _floor(
     robot: MobileManipulator,
     keep_out: Sequence[KeepOut | Sequence[float]],
     footprint: FootprintDisc | float | Sequence[float] | None,
+    scene: Scene | None,
 ) -> tuple[tuple[KeepOut, ...], FootprintDisc | None]:
-    """The keep-out regions, checked, and the disc that covers the platform (None without regions)."""
-    regions = keep_out_regions(keep_out)
+    """The keep-out regions, checked, with those of the scene's boxes on the floor, and the disc that covers
+    the platform (None without regions)."""
+    regions = keep_out_regions(keep_out) + (() if scene is None else scene_regions(scene))
     if not regions:
         return regions, None
     return regions, footprint_disc(robot) if footprint is None else FootprintDisc.of(footprint)
@@ -358,15 +407,18 @@ def _placement(
     q: np.ndarray,
     error: np.ndarray,
     score: np.ndarray,
+    found: np.ndarray,
+    colliding: np.ndarray,
     measure: str,
     level: str,
     tolerance: float,
     regions: tuple[KeepOut, ...],
     footprint: FootprintDisc | None,
 ) -> Placement:
-    """The :class:`Placement` of the solved candidates: reached where within ``tolerance`` and not blocked."""
+    """The :class:`Placement` of the solved candidates: reached where ``found`` (within ``tolerance`` with
+    free postures) and not blocked; ``colliding`` where not blocked either."""
     off_limits = blocked(bases, footprint, regions) if footprint is not None else np.zeros(len(bases), bool)
-    reached = (error <= tolerance) & ~off_limits
+    reached = found & ~off_limits
     return Placement(
         target=np.asarray(target),
         bases=bases,
@@ -380,13 +432,9 @@ def _placement(
         n_platform=robot.n_platform,
         revolute=_revolute(robot),
         blocked=off_limits,
+        colliding=colliding & ~off_limits,
         footprint=footprint,
     )
-
-
-def _check_tolerance(tolerance: object) -> None:
-    if not (isinstance(tolerance, (int, float, np.floating)) and math.isfinite(tolerance) and tolerance > 0):
-        raise InputError(f"tolerance must be a finite number > 0, got {tolerance!r}")
 
 
 def _revolute(robot: MobileManipulator) -> tuple[bool, ...]:

@@ -113,18 +113,22 @@ def best(
     task: Task,
     measure: str,
     level: str,
+    free: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One start of :func:`reach`'s per pair: among the starts that reach the target (error ≤
-    ``tolerance``), the one where the manipulability ``measure`` of the ``level`` Jacobian (``"arm"``: J_a,
-    ``"system"``: J̄ = J S) of ``task`` is highest; where none reaches it, the one of least error. Returns
-    (q (..., n_q), error (...,), score (...,): the measure there, NaN where not reached). Several starts often
-    reach a target in different postures (elbow up or down, another torso height): the measure, not the
-    round-off of their errors, decides between them."""
+    ``tolerance``) with a posture free of collision (``free`` (..., S), :mod:`mobman.studies.clearance`; every
+    posture when None), the one where the manipulability ``measure`` of the ``level`` Jacobian (``"arm"``: J_a,
+    ``"system"``: J̄ = J S) of ``task`` is highest; where none does, the one of least error. Returns
+    (q (..., n_q), error (...,), score (...,): the measure there, NaN exactly where no start reached the
+    target with a free posture). Several starts often reach a target in different postures (elbow up or
+    down, another torso height): the measure, not the round-off of their errors, decides between them."""
     reached = error <= tolerance
+    if free is not None:
+        reached = reached & free
     # every start's measure, kept where it reaches: one array shape for any number of reached starts, so
     # that the measures' program compiles once per shape of the problem, not once per count reached
     measured = np.asarray(mp.jacobian_and_measures(robot, np.nan_to_num(q), level, task)[1][measure])
-    rank = np.where(reached, measured, np.nan)
+    rank = np.where(reached, np.nan_to_num(measured), np.nan)
     chosen = np.where(
         reached.any(axis=-1), np.argmax(np.where(reached, rank, -np.inf), axis=-1), np.argmin(error, axis=-1)
     )

@@ -17,6 +17,11 @@ cells' centres, coloured by their score, attached to the platform (the map's fra
 Keep-out regions of the floor and the disc covering the platform (:mod:`mobman.studies.floor`,
 :meth:`Viewer.show_floor`) are drawn as patches on the floor, the disc moving with the platform.
 
+A scene (:mod:`mobman.model.scene`, :meth:`Viewer.show_scene`) is drawn as its primitives and floor plane, with
+the robot's collision spheres (:mod:`mobman.model.collision_model`; a panel box shows or hides them) and the
+segment between the witness points of the closest pair (:func:`mobman.collision.distances`: robot–obstacle,
+robot–floor and self pairs), coloured by that pair's signed distance from green (far) to red (contact).
+
 Links are drawn from the robot's :class:`~mobman.model.visual.Visual` shapes (URDF meshes, boxes, cylinders,
 spheres); a robot without them gets cylinders between successive joint origins, and a platform body and wheels
 from its dimensions. Importing this module needs the ``viewer`` extra (viser, trimesh).
@@ -35,6 +40,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 import trimesh
@@ -42,12 +48,14 @@ import viser
 import viser.transforms as vtf
 import viser.uplot
 
-from mobman import kinematics, manipulability, redundancy
+from mobman import collision, kinematics, manipulability, redundancy
 from mobman.dynamics import DynamicModel, ellipsoids
 from mobman.errors import InputError
 from mobman.io import trajectories
+from mobman.model.collision_model import CollisionModel, collision_model
 from mobman.model.robot import MobileManipulator
 from mobman.model.robots import ROBOTS, design
+from mobman.model.scene import Obstacle, Scene
 from mobman.model.tasks import Position
 from mobman.model.visual import Visual
 
@@ -62,6 +70,19 @@ EE_PATH_COLOR = (20, 160, 60)
 PLATFORM_PATH_COLOR = (150, 60, 200)
 KEEP_OUT_COLOR = (200, 40, 40)
 FOOTPRINT_COLOR = (250, 190, 20)
+OBSTACLE_COLOR = (50, 170, 170)
+"""Teal: the scene's obstacles (drawn at :data:`OBSTACLE_OPACITY`)."""
+OBSTACLE_OPACITY = 0.8
+FLOOR_COLOR = (150, 150, 150)
+SPHERE_COLOR = (230, 80, 200)
+"""Magenta: the robot's collision spheres (translucent)."""
+NEAR_COLOR = (220, 30, 30)
+"""The closest pair's segment at contact or in penetration (distance ≤ 0)."""
+FAR_COLOR = (30, 170, 60)
+"""The closest pair's segment at :data:`CLEARANCE_FAR` or farther."""
+CLEARANCE_FAR = 0.3
+"""Distance (m) from which the closest pair's segment is drawn all green; below it the colour goes linearly
+to red at contact."""
 FLOOR_PATCH = 0.01
 """Thickness (m) of the patches drawn on the floor: keep-out regions and the platform's footprint disc."""
 MEASURES = {"yoshikawa": "w", "inverse_condition": "w2", "eccentricity": "w5"}
@@ -280,6 +301,19 @@ def _free_port(host: str) -> int:
         return s.getsockname()[1]
 
 
+def clearance_color(distance: float) -> tuple[int, int, int]:
+    """The closest pair's colour at a signed ``distance`` (m): :data:`NEAR_COLOR` (red) at contact or in
+    penetration, :data:`FAR_COLOR` (green) from :data:`CLEARANCE_FAR` on, linear in between."""
+    s = min(max(distance / CLEARANCE_FAR, 0.0), 1.0)
+    near, far = np.array(NEAR_COLOR), np.array(FAR_COLOR)
+    red, green, blue = (int(round(c)) for c in (1 - s) * near + s * far)
+    return red, green, blue
+
+
+_centres = jax.jit(collision.centres_one, static_argnums=0)
+"""The world centres of a collision model's spheres at one configuration (compiled once per model)."""
+
+
 def _wxyz(r: np.ndarray) -> np.ndarray:
     return vtf.SO3.from_matrix(r).wxyz
 
@@ -379,6 +413,8 @@ class Viewer:
     ellipsoids' names: :func:`ellipsoid_node`); :attr:`time_slider` is the time slider of a
     loaded motion (None before :meth:`load_results`); :attr:`measures_md`, :attr:`flags_html` and
     :attr:`jbar_md` are the panel's measures, KSC / VSC flags and J̄; :attr:`snapshot` what is drawn now.
+    After :meth:`show_scene`, :attr:`collision` is the (collision model, scene) drawn and :attr:`closest` the
+    closest pair's names and signed distance (m) at the configuration shown.
     """
 
     def __init__(
@@ -414,6 +450,8 @@ class Viewer:
         self._closed = threading.Event()
         self._player: threading.Thread | None = None
         self._motion_gui: list = []
+        self.collision: tuple[CollisionModel, Scene] | None = None
+        self.closest: tuple[tuple[str, str], float] | None = None
         self.server.scene.set_up_direction("+z")
         # no shadows, no environment map: software WebGL (headless chromium, remote desktops) draws it in seconds
         self.server.scene.configure_default_lights(cast_shadow=False)
@@ -504,6 +542,68 @@ class Viewer:
             rgba=(*_rgba(FOOTPRINT_COLOR)[:3], 0.6),
         )
         self._add_visual("/robot/platform/footprint", disc_shape)
+
+    def show_scene(self, scene: Scene, model: CollisionModel | None = None, spheres: bool = False) -> None:
+        """Draw the obstacles of ``scene`` (nodes ``/scene/<name>``: viser boxes, spheres and cylinders at their
+        poses, a capsule as a cylinder and two spheres under one frame) and its floor plane (``/scene/floor``, a
+        thin slab whose top is the plane), the collision spheres of ``model`` (default the robot's
+        :func:`~mobman.model.collision_model.collision_model`; node ``/collision/spheres``, shown while the
+        panel's "collision spheres" box is ticked, ``spheres`` its initial state) and the segment between the
+        witness points of the closest pair (``/collision/closest``, robot point first), coloured by
+        :func:`clearance_color`. The spheres, the segment and the panel's line follow every configuration
+        shown afterwards."""
+        model = collision_model(self.robot) if model is None else model
+        if model.robot != self.robot:
+            raise InputError(
+                f"show_scene: the collision model is of {model.robot.name}, not of {self.robot.name}"
+            )
+        used: set[str] = set()
+        for obstacle in scene.obstacles:
+            name = f"/scene/{_node_name(obstacle.name)}"
+            name = name if name not in used else f"{name}_{len(used)}"
+            used.add(name)
+            self._add_obstacle(name, obstacle)
+        if scene.floor is not None:
+            self._keep(
+                self.server.scene.add_box(
+                    "/scene/floor",
+                    FLOOR_COLOR,
+                    (10.0, 10.0, FLOOR_PATCH),
+                    opacity=0.35,
+                    position=(0.0, 0.0, scene.floor - FLOOR_PATCH / 2),
+                    cast_shadow=False,
+                )
+            )
+        ball = trimesh.creation.icosphere(subdivisions=2, radius=1.0)
+        n = len(model.spheres)
+        handle = self.server.scene.add_batched_meshes_simple(
+            "/collision/spheres",
+            ball.vertices,
+            ball.faces,
+            batched_wxyzs=np.tile([1.0, 0.0, 0.0, 0.0], (n, 1)),
+            batched_positions=np.zeros((n, 3)),
+            batched_scales=np.array([s.radius for s in model.spheres]),
+            batched_colors=SPHERE_COLOR,
+            opacity=0.5,
+            cast_shadow=False,
+            visible=spheres,
+        )
+        self._keep(handle)
+        self._keep(
+            self.server.scene.add_line_segments(
+                "/collision/closest", np.zeros((1, 2, 3)), FAR_COLOR, thickness=4.0, thickness_units="screen"
+            )
+        )
+        gui = self.server.gui
+        self.spheres_checkbox = gui.add_checkbox("collision spheres", spheres, order=-4)
+        self.spheres_checkbox.on_update(lambda _: setattr(handle, "visible", self.spheres_checkbox.value))
+        self.clearance_md = gui.add_markdown("", order=-4.5)
+        self.collision = (model, scene)
+        if scene.obstacles:  # the camera takes in the obstacles and the robot
+            robot_at = np.zeros((1, 3)) if self.snapshot is None else self.snapshot.platform[1]
+            self._aim_camera(np.concatenate([robot_at, [o.position for o in scene.obstacles]]))
+        if self.snapshot is not None:
+            self._draw(self.snapshot)
 
     def set_time(self, t: float) -> None:
         """Show the loaded motion at the sample nearest to time ``t`` (as the time slider does)."""
@@ -628,7 +728,61 @@ class Viewer:
                         link.wxyz, link.scale = turn, (1.0, 1.0, max(length, 1e-6))
                         link.visible = length > 1e-9
             self._draw_ellipsoid(snap)
+            if self.collision is not None:
+                self._draw_collision(snap.q)
         self._update_panel(snap)
+
+    def _draw_collision(self, q: np.ndarray) -> None:
+        """Move the collision spheres to configuration q (1, n_q) and draw its closest pair's segment."""
+        assert self.collision is not None
+        model, scene = self.collision
+        spheres = self.nodes["/collision/spheres"]
+        segment = self.nodes["/collision/closest"]
+        assert isinstance(spheres, viser.BatchedMeshHandle) and isinstance(segment, viser.LineSegmentsHandle)
+        spheres.batched_positions = np.asarray(_centres(model, jnp.asarray(q[0])))
+        out = collision.distances(model, scene, q)
+        if not out.distance.shape[-1]:
+            segment.visible = False
+            self.closest = None
+            self.clearance_md.content = "**Closest pair**: none (no obstacle, no floor, no self pair)"
+            return
+        k = int(np.argmin(out.distance[0]))
+        d = float(out.distance[0, k])
+        robot_body, other = collision.pair_names(model, scene)[k]
+        self.closest = ((robot_body, other), d)
+        segment.points = np.stack([out.robot_point[0, k], out.other_point[0, k]])[None]
+        segment.colors = np.broadcast_to(np.array(clearance_color(d), dtype=np.uint8), (1, 2, 3))
+        segment.visible = True
+        state = " (in collision)" if d < 0 else ""
+        self.clearance_md.content = f"**Closest pair** {robot_body} – {other}: {d:.4g} m{state}"
+
+    def _add_obstacle(self, name: str, obstacle: Obstacle) -> None:
+        scene, color, alpha = self.server.scene, OBSTACLE_COLOR, OBSTACLE_OPACITY
+        wxyz, at = _wxyz(obstacle.rotation), np.asarray(obstacle.position)
+        size = obstacle.size
+        if obstacle.shape == "box":
+            box = scene.add_box(
+                name, color, np.asarray(size), opacity=alpha, cast_shadow=False, wxyz=wxyz, position=at
+            )
+            self._keep(box)
+        elif obstacle.shape == "sphere":
+            ball = scene.add_icosphere(name, size[0], color, opacity=alpha, cast_shadow=False, position=at)
+            self._keep(ball)
+        elif obstacle.shape == "cylinder":  # viser's cylinder: its axis along its own z, as the scene's
+            rod = scene.add_cylinder(
+                name, size[0], size[1], color, opacity=alpha, cast_shadow=False, wxyz=wxyz, position=at
+            )
+            self._keep(rod)
+        else:  # a capsule: the straight part and a sphere at each end, in the capsule's frame
+            radius, length = size
+            self._keep(scene.add_frame(name, show_axes=False, wxyz=wxyz, position=at))
+            body = scene.add_cylinder(f"{name}/body", radius, length, color, opacity=alpha, cast_shadow=False)
+            self._keep(body)
+            for end, z in (("top", length / 2), ("bottom", -length / 2)):
+                cap = scene.add_icosphere(
+                    f"{name}/{end}", radius, color, opacity=alpha, cast_shadow=False, position=(0.0, 0.0, z)
+                )
+                self._keep(cap)
 
     def _draw_ellipsoid(self, snap: Snapshot) -> None:
         for arm in range(len(self.robot.arms)):
@@ -865,4 +1019,13 @@ class Viewer:
             time.sleep(max(0.0, period - (time.monotonic() - start)))
 
 
-__all__ = ["Snapshot", "Viewer", "arm_labels", "ellipsoid_node", "evaluate", "motions_of", "robot_of"]
+__all__ = [
+    "Snapshot",
+    "Viewer",
+    "arm_labels",
+    "clearance_color",
+    "ellipsoid_node",
+    "evaluate",
+    "motions_of",
+    "robot_of",
+]
