@@ -117,3 +117,27 @@ def test_the_command_keeps_its_programs_in_the_default_folder(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=180)
     assert out.returncode == 0, out.stderr[-3000:]
     assert _entries(tmp_path / "xdg" / "mobman" / "xla")
+
+
+def test_the_command_keeps_exported_programs_unless_told_not_to(tmp_path):
+    """A command keeps its traced programs as exports beside the compilations and a later one reads them back
+    with the same output; MOBMAN_EXPORTED=off keeps none."""
+    code = (
+        "from mobman.cli import main; main(['analyze', 'bayle-planar', '--q', '0,0,pi/2,0.3,1.2', '--json'])"
+    )
+
+    def run(**extra: str) -> str:
+        env = {k: v for k, v in _environment(tmp_path).items() if k != "MOBMAN_EXPORTED"} | extra
+        out = subprocess.run(
+            [sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=180
+        )
+        assert out.returncode == 0, out.stderr[-3000:]
+        return out.stdout
+
+    first = run(MOBMAN_CACHE_DIR=str(tmp_path / "kept"))
+    kept = sorted((tmp_path / "kept" / "exported").glob("*.exported"))
+    assert kept
+    assert run(MOBMAN_CACHE_DIR=str(tmp_path / "kept")) == first
+    assert sorted((tmp_path / "kept" / "exported").glob("*.exported")) == kept
+    assert run(MOBMAN_CACHE_DIR=str(tmp_path / "off"), MOBMAN_EXPORTED="off") == first
+    assert not list((tmp_path / "off").rglob("*.exported"))

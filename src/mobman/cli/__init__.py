@@ -7,6 +7,7 @@ compiled programs between runs (:mod:`mobman.engine.compilation_cache`, ``MOBMAN
 
 from __future__ import annotations
 
+import os
 import sys
 
 import typer
@@ -50,7 +51,7 @@ def main(argv: list[str] | None = None) -> None:
     command = _command(argv)
     try:
         folder = compilation_cache.enable()
-        exported.enable(folder)
+        exported.enable(None if os.environ.get(exported.ENVIRONMENT, "").strip().lower() == "off" else folder)
         urdf_cache.enable(folder)
     except MobmanError as exc:  # the command still runs, compiling every program
         typer.echo(f"warning: {_one_line(str(exc))}", err=True)

@@ -11,10 +11,11 @@ and calls it: no tracing, and the compilation comes from the persistent cache.
 A stored program is found again only for the same key, the SHA-256 of
 
 - the function's name (:func:`jit`'s ``name``),
-- the static arguments, pickled (robots, tasks and options are frozen dataclasses of numbers, strings and
-  tuples), when every class and function the pickle names is mobman's, NumPy's, JAX's or a builtin: a static
+- the static arguments, described by their classes and fields (robots, tasks and options are frozen
+  dataclasses of numbers, strings and tuples; not the caches an instance keeps, which depend on what ran
+  before), when every class and function they name is mobman's, NumPy's, JAX's or a builtin: a static
   argument that names anything else (a user's own task class, a function) is never stored, since its code
-  could change without changing its pickle;
+  could change without changing its description;
 - the shapes and dtypes of the array arguments and the drop-in kernels registered
   (:mod:`mobman.engine.kernels`);
 - the source code of the installed mobman package, JAX's and jaxlib's versions and the backend,
@@ -22,12 +23,15 @@ A stored program is found again only for the same key, the SHA-256 of
 so any change of mobman, JAX, the robot or an option traces afresh. Calls with traced arguments (inside
 ``jit``, ``grad``, ``vmap``) and any program whose export or serialization fails (a host callback, say: an
 empty ``KEY.plain`` file then tells later processes not to try again) are plain ``jax.jit``; so is
-every call while the cache is off (the default: the ``mobman`` command turns it on). The folder keeps at most
+every call while the cache is off (the default: the ``mobman`` command turns it on, unless
+``MOBMAN_EXPORTED=off``). The folder keeps at most
 :data:`MAX_BYTES`, the least recently written programs removed first.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import enum
 import functools
 import hashlib
 import io
@@ -42,6 +46,10 @@ import numpy as np
 
 from mobman.engine import kernels
 from mobman.errors import InputError
+
+ENVIRONMENT = "MOBMAN_EXPORTED"
+"""The environment variable that keeps the ``mobman`` command from using exported programs (``off``): it then
+traces every program and reads only their compilations back."""
 
 MAX_BYTES = 128 * 2**20
 """Largest size of the folder of exported programs (a robot's program is 10–200 kB)."""
@@ -160,26 +168,60 @@ def _dtype(x: Any) -> np.dtype:
 
 def _key(name: str, statics: dict[int, Any], shapes: tuple) -> str | None:
     try:
-        pickled = pickle.dumps(statics, protocol=5)
-    except Exception:  # noqa: BLE001 - an unpicklable option (a lambda): not stored
-        return None
-    if not _names_only_trusted(pickled):
+        described = pickle.dumps(_described(statics), protocol=5)
+    except _Untrusted:
         return None
     digest = hashlib.sha256()
     drop_ins = repr(sorted(n for n, k in kernels.registry().items() if k.drop_in is not None))
-    for part in (name.encode(), pickled, repr(shapes).encode(), drop_ins.encode(), source_digest().encode()):
+    for part in (
+        name.encode(),
+        described,
+        repr(shapes).encode(),
+        drop_ins.encode(),
+        source_digest().encode(),
+    ):
         digest.update(len(part).to_bytes(8, "little"))
         digest.update(part)
     return digest.hexdigest()
 
 
-def _names_only_trusted(pickled: bytes) -> bool:
-    """Whether every global (class or function) the pickle refers to lives in :data:`TRUSTED_MODULES`."""
-    try:
-        trusted_loads(pickled)
-    except pickle.UnpicklingError:
-        return False
-    return True
+class _Untrusted(Exception):
+    """A static argument names code outside :data:`TRUSTED_MODULES`, or is of a kind :func:`_described` does
+    not know: its program is not kept."""
+
+
+def _trusted_name(thing: Any) -> str:
+    module = getattr(thing, "__module__", None) or ""
+    if module.split(".")[0] not in TRUSTED_MODULES:
+        raise _Untrusted(module)
+    return f"{module}.{getattr(thing, '__qualname__', type(thing).__qualname__)}"
+
+
+def _described(value: Any) -> Any:
+    """``value`` as plain builtins that equal values describe alike in every process: a dataclass by its
+    class and fields only (not the caches an instance keeps in its ``__dict__``, which depend on what ran
+    before), containers by their items (sets sorted), arrays by dtype, shape and bytes, classes and functions
+    by their qualified names (only mobman's, NumPy's, JAX's and builtins': :class:`_Untrusted` otherwise)."""
+    if value is None or isinstance(value, (bool, int, float, complex, str, bytes)):
+        return (type(value).__name__, value)
+    if isinstance(value, (np.ndarray, np.generic, jax.Array)):
+        array = np.asarray(value)
+        return ("array", array.dtype.str, array.shape, array.tobytes())
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        fields = tuple((f.name, _described(getattr(value, f.name))) for f in dataclasses.fields(value))
+        return ("dataclass", _trusted_name(type(value)), fields)
+    if isinstance(value, type) or callable(value):
+        return ("ref", _trusted_name(value))
+    if isinstance(value, enum.Enum):
+        return ("enum", _trusted_name(type(value)), value.name)
+    if isinstance(value, (tuple, list)):
+        return (_trusted_name(type(value)), tuple(_described(v) for v in value))
+    if isinstance(value, dict):
+        items = ((repr(_described(k)), _described(v)) for k, v in value.items())
+        return ("dict", tuple(sorted(items, key=repr)))
+    if isinstance(value, (set, frozenset)):
+        return ("set", tuple(sorted((_described(v) for v in value), key=repr)))
+    raise _Untrusted(type(value).__qualname__)
 
 
 def trusted_loads(data: bytes) -> Any:
