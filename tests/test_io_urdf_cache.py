@@ -124,3 +124,18 @@ def test_off_the_reading_is_never_kept(tmp_path, meshed):
     urdf_cache.disable()
     urdf_cache.read(meshed, tip="tool", base="base_link")
     assert not list(tmp_path.rglob("*.pickle"))
+
+
+def test_a_kept_collision_model_equals_a_fresh_one_and_is_not_rebuilt(kept, meshed, monkeypatch):
+    from mobman.io.urdf import collision_shapes
+    from mobman.model.collision_model import CollisionModel
+
+    model = read_urdf(meshed, tip="tool", base="base_link")
+    fresh = CollisionModel.from_shapes(model.robot, collision_shapes(model), 0.05)
+    first = urdf_cache.collision_model(meshed, model.robot, 0.05, tip="tool", base="base_link")
+    built = []
+    monkeypatch.setattr(urdf_cache.CollisionModel, "from_shapes", lambda *args: built.append(args))
+    again = urdf_cache.collision_model(meshed, model.robot, 0.05, tip="tool", base="base_link")
+    assert built == [] and again == first == fresh
+    urdf_cache.collision_model(meshed, model.robot, 0.1, tip="tool", base="base_link")  # another tolerance
+    assert len(built) == 1

@@ -20,14 +20,14 @@ from rich.table import Table
 
 from mobman import collision
 from mobman.cli.app import app
-from mobman.cli.common import UrdfOption, array_text, load_robot, read_urdf_file, urdf_options
+from mobman.cli.common import UrdfOption, array_text, load_robot, urdf_options
 from mobman.cli.limits import STRICT_HELP, outside_limits
 from mobman.errors import InputError
-from mobman.io import dump_json
+from mobman.io import dump_json, urdf_cache
 from mobman.io import scene as scene_file
 from mobman.io.numbers import parse_vector
-from mobman.io.real_robots import REAL_ROBOTS, urdf_model
-from mobman.io.urdf import collision_shapes, is_urdf_path
+from mobman.io.real_robots import REAL_ROBOTS
+from mobman.io.urdf import is_urdf_path
 from mobman.model.collision_model import DEFAULT_TOLERANCE, CollisionModel, collision_model, neutral_posture
 from mobman.model.robot import MobileManipulator
 from mobman.model.scene import Scene
@@ -71,12 +71,14 @@ def robot_collision_model(
     ``<collision>`` shapes of its URDF file (a .urdf path or a built-in real robot, read with the ``urdf``
     options), else those of :func:`mobman.model.collision_model.collision_model`."""
     if is_urdf_path(name):
-        read = read_urdf_file(name, urdf, say=False)
+        path, options = name, dict(urdf or {})
     elif name in REAL_ROBOTS:
-        read = urdf_model(name)
+        spec = REAL_ROBOTS[name]
+        path, options = str(spec.path()), {"tip": spec.tips, "base": spec.base, "name": name}
+        options["locked"] = dict(spec.locked)
     else:
         return collision_model(robot, tolerance)
-    return CollisionModel.from_shapes(robot, collision_shapes(read), tolerance)
+    return urdf_cache.collision_model(path, robot, tolerance, **options)
 
 
 class ClearanceOption:

@@ -168,14 +168,14 @@ def _dtype(x: Any) -> np.dtype:
 
 def _key(name: str, statics: dict[int, Any], shapes: tuple) -> str | None:
     try:
-        described = pickle.dumps(_described(statics), protocol=5)
+        description = pickle.dumps(described(statics), protocol=5)
     except _Untrusted:
         return None
     digest = hashlib.sha256()
     drop_ins = repr(sorted(n for n, k in kernels.registry().items() if k.drop_in is not None))
     for part in (
         name.encode(),
-        described,
+        description,
         repr(shapes).encode(),
         drop_ins.encode(),
         source_digest().encode(),
@@ -186,7 +186,7 @@ def _key(name: str, statics: dict[int, Any], shapes: tuple) -> str | None:
 
 
 class _Untrusted(Exception):
-    """A static argument names code outside :data:`TRUSTED_MODULES`, or is of a kind :func:`_described` does
+    """A static argument names code outside :data:`TRUSTED_MODULES`, or is of a kind :func:`described` does
     not know: its program is not kept."""
 
 
@@ -197,7 +197,7 @@ def _trusted_name(thing: Any) -> str:
     return f"{module}.{getattr(thing, '__qualname__', type(thing).__qualname__)}"
 
 
-def _described(value: Any) -> Any:
+def described(value: Any) -> Any:
     """``value`` as plain builtins that equal values describe alike in every process: a dataclass by its
     class and fields only (not the caches an instance keeps in its ``__dict__``, which depend on what ran
     before), containers by their items (sets sorted), arrays by dtype, shape and bytes, classes and functions
@@ -208,19 +208,19 @@ def _described(value: Any) -> Any:
         array = np.asarray(value)
         return ("array", array.dtype.str, array.shape, array.tobytes())
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        fields = tuple((f.name, _described(getattr(value, f.name))) for f in dataclasses.fields(value))
+        fields = tuple((f.name, described(getattr(value, f.name))) for f in dataclasses.fields(value))
         return ("dataclass", _trusted_name(type(value)), fields)
     if isinstance(value, type) or callable(value):
         return ("ref", _trusted_name(value))
     if isinstance(value, enum.Enum):
         return ("enum", _trusted_name(type(value)), value.name)
     if isinstance(value, (tuple, list)):
-        return (_trusted_name(type(value)), tuple(_described(v) for v in value))
+        return (_trusted_name(type(value)), tuple(described(v) for v in value))
     if isinstance(value, dict):
-        items = ((repr(_described(k)), _described(v)) for k, v in value.items())
+        items = ((repr(described(k)), described(v)) for k, v in value.items())
         return ("dict", tuple(sorted(items, key=repr)))
     if isinstance(value, (set, frozenset)):
-        return ("set", tuple(sorted((_described(v) for v in value), key=repr)))
+        return ("set", tuple(sorted((described(v) for v in value), key=repr)))
     raise _Untrusted(type(value).__qualname__)
 
 

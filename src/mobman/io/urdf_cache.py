@@ -24,9 +24,11 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-from mobman.engine.exported import source_digest, store, trusted_loads
+from mobman.engine.exported import described, source_digest, store, trusted_loads
 from mobman.errors import InputError
-from mobman.io.urdf import UrdfModel, UrdfWarning, read_urdf
+from mobman.io.urdf import UrdfModel, UrdfWarning, collision_shapes, read_urdf
+from mobman.model.collision_model import CollisionModel
+from mobman.model.robot import MobileManipulator
 
 MAX_BYTES = 64 * 2**20
 """Largest size of the folder of kept readings (TIAGo's is about 200 kB)."""
@@ -81,6 +83,33 @@ def read(path: str | os.PathLike[str], **options: Any) -> UrdfModel:
     return model
 
 
+def collision_model(
+    path: str | os.PathLike[str], robot: MobileManipulator, tolerance: float, **options: Any
+) -> CollisionModel:
+    """The spheres covering the ``<collision>`` shapes of the URDF file ``path`` (read with ``options``) on
+    ``robot`` (the file's robot, or a design of it) to the cover tolerance ``tolerance``
+    (:meth:`mobman.model.collision_model.CollisionModel.from_shapes`), read back from the folder when they
+    were kept: a cover takes seconds to build (the meshes' hulls), a kept one milliseconds."""
+    model = read(path, **options)
+    if _folder is None:
+        return CollisionModel.from_shapes(robot, collision_shapes(model), tolerance)
+    parts = {"robot": described(robot), "tolerance": float(tolerance), "options": options}
+    key = _key(Path(path).read_bytes(), Path(path).resolve(), {"collision model": pickle.dumps(parts)})
+    kept = _folder / f"{key}.pickle"
+    try:
+        cover = trusted_loads(kept.read_bytes())
+    except Exception:  # noqa: BLE001 - none kept, or a damaged or foreign file: built afresh
+        cover = None
+    if isinstance(cover, CollisionModel):
+        return cover
+    cover = CollisionModel.from_shapes(robot, collision_shapes(model), tolerance)
+    try:
+        store(kept, pickle.dumps(cover, protocol=5), MAX_BYTES, "*.pickle")
+    except (OSError, pickle.PicklingError):
+        pass
+    return cover
+
+
 def _kept(path: Path) -> UrdfModel | None:
     """The reading kept at ``path`` if there is one, whole, and its meshes are unchanged."""
     try:
@@ -130,4 +159,4 @@ def _canonical(value: Any) -> Any:
     return value
 
 
-__all__ = ["MAX_BYTES", "disable", "enable", "read"]
+__all__ = ["MAX_BYTES", "collision_model", "disable", "enable", "read"]
