@@ -20,10 +20,14 @@ from planning_setting import coarse, setting, z_test  # noqa: F401  (the plannin
 _CACHE = Path(os.environ.get("MOBMAN_TEST_JAX_CACHE", Path(tempfile.gettempdir()) / "mobman-test-jax-cache"))
 os.environ.setdefault("JAX_COMPILATION_CACHE_DIR", str(_CACHE))
 os.environ.setdefault("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", "0.2")
+# A size bound turns JAX's file lock on: without it a worker can read a program another worker is still
+# writing (JAX writes the file in place) and crash deserializing the half-written executable.
+os.environ.setdefault("JAX_COMPILATION_CACHE_MAX_SIZE", str(4 * 2**30))
 # Command lines run in the tests' own processes trace their programs as a script does: the kept exports of
 # mobman.engine.exported are tested on their own (tests/test_engine_exported.py, tests/test_compilation_cache.py).
 os.environ.setdefault("MOBMAN_EXPORTED", "off")
 jax.config.update("jax_compilation_cache_dir", os.environ["JAX_COMPILATION_CACHE_DIR"])
+jax.config.update("jax_compilation_cache_max_size", int(os.environ["JAX_COMPILATION_CACHE_MAX_SIZE"]))
 jax.config.update(
     "jax_persistent_cache_min_compile_time_secs",
     float(os.environ["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"]),

@@ -33,7 +33,13 @@ def _environment(tmp_path: Path, **extra: str) -> dict[str, str]:
     env = {
         k: v
         for k, v in os.environ.items()
-        if k not in ("JAX_COMPILATION_CACHE_DIR", compilation_cache.ENVIRONMENT, "XDG_CACHE_HOME")
+        if k
+        not in (
+            "JAX_COMPILATION_CACHE_DIR",
+            "JAX_COMPILATION_CACHE_MAX_SIZE",  # the tests' own bound (conftest)
+            compilation_cache.ENVIRONMENT,
+            "XDG_CACHE_HOME",
+        )
     }
     env["XDG_CACHE_HOME"] = str(tmp_path / "xdg")
     env["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0"
