@@ -64,15 +64,20 @@ def enable(compilation_folder: Path | None) -> Path | None:
     """Keep exported programs in ``compilation_folder / "exported"`` from now on in this process (None: off).
     Returns the folder, or None; raises :class:`mobman.InputError` when it cannot be created."""
     global _folder
+    _folder = subfolder(compilation_folder, "exported", "exported programs")
+    return _folder
+
+
+def subfolder(compilation_folder: Path | None, name: str, what: str) -> Path | None:
+    """``compilation_folder / name``, created readable by its owner only (None for None); an
+    :class:`mobman.InputError` naming ``what`` when it cannot be created."""
     if compilation_folder is None:
-        _folder = None
         return None
-    folder = Path(compilation_folder) / "exported"
+    folder = Path(compilation_folder) / name
     try:
         folder.mkdir(mode=0o700, parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(f"exported programs' folder {folder}: {exc.strerror or exc}") from None
-    _folder = folder
+        raise InputError(f"{what}' folder {folder}: {exc.strerror or exc}") from None
     return folder
 
 

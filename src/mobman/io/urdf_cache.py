@@ -24,8 +24,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-from mobman.engine.exported import described, source_digest, store, trusted_loads
-from mobman.errors import InputError
+from mobman.engine.exported import described, source_digest, store, subfolder, trusted_loads
 from mobman.io.urdf import UrdfModel, UrdfWarning, collision_shapes, read_urdf
 from mobman.model.collision_model import CollisionModel
 from mobman.model.robot import MobileManipulator
@@ -40,16 +39,8 @@ def enable(compilation_folder: Path | None) -> Path | None:
     """Keep URDF readings in ``compilation_folder / "urdf"`` from now on in this process (None: off). Returns
     the folder, or None; raises :class:`mobman.InputError` when it cannot be created."""
     global _folder
-    if compilation_folder is None:
-        _folder = None
-        return None
-    folder = Path(compilation_folder) / "urdf"
-    try:
-        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"URDF readings' folder {folder}: {exc.strerror or exc}") from None
-    _folder = folder
-    return folder
+    _folder = subfolder(compilation_folder, "urdf", "URDF readings")
+    return _folder
 
 
 def disable() -> None:
