@@ -98,7 +98,7 @@ def test_a_port_in_time_wait_is_served(monkeypatch, capsys):
     def stop(_seconds):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(view.time, "sleep", stop)
+    monkeypatch.setattr(view, "sleep", stop)  # the view's wait only: the server's threads sleep too
     main(["view", "bayle-rrp", "--port", str(port)])
     assert f"at http://127.0.0.1:{port}" in capsys.readouterr().out
 
@@ -150,7 +150,7 @@ def test_serves_on_loopback_and_prints_its_url(monkeypatch, capsys):
         seen.append((url, urllib.request.urlopen(url, timeout=10).status))
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(view.time, "sleep", stop)
+    monkeypatch.setattr(view, "sleep", stop)
     main(["view", "bayle-rrp", "--port", "0"])
     ((url, status),) = seen
     assert url.startswith("http://127.0.0.1:") and status == 200
@@ -186,7 +186,7 @@ def test_tiago_dynamic_ellipsoid_is_the_one_of_its_urdf_inertials_and_effort_lim
         raise KeyboardInterrupt
 
     monkeypatch.setattr(viewer_module, "Viewer", Recorder)
-    monkeypatch.setattr(view.time, "sleep", stop)
+    monkeypatch.setattr(view, "sleep", stop)
     # heading exactly π/2, arm_1 at π/2, arm_4 at its lower limit (q = x, y, θ, torso, arm_1 … arm_7)
     q = np.array([0.4, -0.2, np.pi / 2, 0.2, np.pi / 2, -1.2, -2.0, -0.32, 1.0, -1.0, 0.5])
     main(["view", "tiago", "--dynamic", "--q", ",".join(repr(float(v)) for v in q), "--port", "0"])

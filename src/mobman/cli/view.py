@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
+from time import sleep
 
 import typer
 
@@ -144,7 +144,7 @@ def view_command(
             return
         typer.echo(f"mobman view: {robot.name} at {viewer.url} (Ctrl-C to stop)")
         while True:
-            time.sleep(1.0)
+            sleep(1.0)
     except KeyboardInterrupt:
         pass
     finally:
