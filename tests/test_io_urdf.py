@@ -658,6 +658,7 @@ def test_a_path_of_bytes_is_an_input_error(tmp_path):
         load_urdf(str(_urdf(tmp_path)).encode(), tip="tool")
 
 
-def test_a_velocity_limit_of_zero_is_no_limit_as_urdf_writers_mean_it(tmp_path):
-    robot = load_urdf(_edited(tmp_path, 'velocity="1.5"', 'velocity="0"'), tip="tool")
+def test_a_velocity_limit_of_zero_is_no_limit_as_urdf_writers_mean_it_and_says_so(tmp_path):
+    with pytest.warns(UrdfWarning, match="velocity limit 0 read as none given .*: joint 'j1'$"):
+        robot = load_urdf(_edited(tmp_path, 'velocity="1.5"', 'velocity="0"'), tip="tool")
     assert robot.arms[0].joints[0].velocity_max is None

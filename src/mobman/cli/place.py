@@ -186,7 +186,7 @@ def place_command(
     else:
         _print(report, robot_name, robot.n_platform)
     if not ranking and not report["candidates"]:
-        not_reached("place", "no reached cell of the map lies within half a step of the target's height")
+        not_reached("place", _no_cell_at_height(robot, reached, float(result.target[2])))
     if not ranking and np.all(result.blocked):
         not_reached("place", f"every base of the {report['candidates']} is blocked by --keep-out")
     if not ranking and report["colliding"]:
@@ -209,6 +209,24 @@ def place_command(
             + (f", {report['blocked']} blocked by --keep-out" if report["blocked"] else "")
             + (f"): {why}" if why is not None else f"); try {advice}"),
         )
+
+
+def _no_cell_at_height(robot: Any, reached: Any, height: float) -> str:
+    """Why a map has no candidate for a target: the heights its reached cells span and, where the target's
+    height is beyond them, the highest (lowest) point the tool reaches
+    (:func:`mobman.studies.placement.closest_height`)."""
+    from mobman.studies.placement import closest_height
+
+    z = reached.centres()[reached.reached][:, 2]
+    message = f"no reached cell of the map lies within half a step of the target's height {height:.4g} m"
+    if not z.size:
+        return message + " (the map reaches no cell)"
+    message += f" (its reached cells lie at {z.min():.4g}–{z.max():.4g} m"
+    nearest = closest_height(robot, height, Position("xyz", arm=reached.arm))
+    if nearest is not None and abs(height - nearest) > reached.step / 2:
+        side = "above the highest" if height > nearest else "below the lowest"
+        message += f"; {abs(height - nearest):.3g} m {side} point the tool reaches, {nearest:.4g} m"
+    return message + ")"
 
 
 def _clearance(solver: dict) -> dict:

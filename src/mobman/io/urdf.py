@@ -65,7 +65,8 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
   that is not well-formed (parsed strictly first: yourdfpy's parser would repair a truncated file), a link or
   joint name used twice, a link below two joints, joints that form a cycle (a link its own ancestor), an
   origin, axis or inertia that is not finite, a NaN limit, a velocity or effort limit below 0 (0 reads as no
-  limit: URDF requires both attributes and writers put 0 where they know none), a mass below 0, a mesh that is
+  limit: URDF requires both attributes and writers put 0 where they know none; a joint of a chain whose velocity
+  limit reads so gets a note), a mass below 0, a mesh that is
   not a mesh file or lies outside the robot's folder. yourdfpy's own log lines are held back while it reads. A ``.xacro`` file must be expanded first: ``xacro robot.urdf.xacro > robot.urdf``.
 
 Writing (:func:`write_urdf`)
@@ -1096,6 +1097,12 @@ def _read(
             acc = np.eye(4)
         arms.append(Arm(tuple(arm_joints), tuple(acc.ravel()), name=t))
 
+    unlimited = [j.name for i in range(len(tips)) for j in chains[i] if j.limit is not None and j.limit.velocity == 0]
+    if unlimited:
+        notes.append(
+            f"velocity limit 0 read as none given (URDF requires the attribute and writers put 0 where they know "
+            f"no limit): joint{'s' * (len(unlimited) > 1)} {', '.join(map(repr, unlimited))}"
+        )
     platform_links = by_group.get(None, [])
     robot = MobileManipulator(
         platform_model,
