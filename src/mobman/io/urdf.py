@@ -1097,7 +1097,9 @@ def _read(
             acc = np.eye(4)
         arms.append(Arm(tuple(arm_joints), tuple(acc.ravel()), name=t))
 
-    unlimited = [j.name for i in range(len(tips)) for j in chains[i] if j.limit is not None and j.limit.velocity == 0]
+    unlimited = [
+        j.name for i in range(len(tips)) for j in chains[i] if j.limit is not None and j.limit.velocity == 0
+    ]
     if unlimited:
         notes.append(
             f"velocity limit 0 read as none given (URDF requires the attribute and writers put 0 where they know "
