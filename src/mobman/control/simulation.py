@@ -368,7 +368,10 @@ def _pieces(setup: _Setup, chunk: int) -> Iterator[tuple[int, dict]]:
     steps = _scan_steps(setup, chunk)
     axis = setup.axis
     q, k, k0 = setup.q0, 0, 0
-    batch_q = setup.batch_q  # a batch of laws from one q0 continues from one state per law
+    batch_q = setup.batch_q or setup.batch_law
+    if setup.batch_law and not setup.batch_q:  # a batch of laws from one q0: one state per law from the start
+        laws = int(jax.tree.leaves(setup.law)[0].shape[0])
+        q = jnp.broadcast_to(jnp.asarray(q), (laws, *np.shape(q)))
     held: list[dict] = []
     while k0 < setup.n:
         wanted = min(chunk, setup.n - k0)
@@ -386,7 +389,6 @@ def _pieces(setup: _Setup, chunk: int) -> Iterator[tuple[int, dict]]:
                 batch_q,
                 float(k),
             )
-            batch_q = setup.batch_q or setup.batch_law
             held.append(jax.tree.map(np.asarray, out))
             k += steps
         joined = held[0] if len(held) == 1 else jax.tree.map(lambda *xs: np.concatenate(xs, axis=axis), *held)
