@@ -181,7 +181,9 @@ def test_a_map_s_cells_are_the_candidates(tmp_path, capsys):
         code, out, err = _run([*base, *args], capsys)
         assert code == 2 and message in err and err.count("\n") == 1, err
     code, _, err = _run(["place", "bayle-planar", "--target", "0.3,-0.4,2", "--map", str(store)], capsys)
-    assert code == 3 and "no reached cell of the map lies within half a step of the target's height 2 m" in err
+    assert (
+        code == 3 and "no reached cell of the map lies within half a step of the target's height 2 m" in err
+    )
     # the planar arm works in its plane z = 0: its cells and its tool stay there
     assert "(its reached cells lie at 0–0 m; 2 m above the highest point the tool reaches, 0 m)" in err
 
