@@ -71,7 +71,7 @@ def test_a_disc_off_the_platform_s_origin_turns_with_the_platform(theta, expecte
 
 def test_the_overlap_agrees_with_a_dense_sampling_of_the_disc():
     rng = np.random.default_rng(3)
-    bases = np.c_[rng.uniform(-1.0, 3.0, (4000, 2)), rng.uniform(-np.pi, np.pi, 4000)]
+    bases = np.c_[rng.uniform(-1.0, 3.0, (800, 2)), rng.uniform(-np.pi, np.pi, 800)]
     bases[:4, 2] = [np.pi / 2, -np.pi / 2, np.pi, -np.pi]
     disc = FootprintDisc(0.35, x=-0.1, y=0.05)
     regions = [TABLE, KeepOut(-0.5, 0.2, 1.5, 1.7)]
