@@ -13,9 +13,11 @@ of the same program, built in NumPy. Both are evaluated at the configurations of
 a random ξ̇*, so u = ξ̇*; their η agree (printed; the run exits with an error above ``AGREEMENT``).
 
 Rows: a law evaluation per call (jit, one configuration: the latency a controller sees), an evaluation within
-the spec's compiled simulation (the run's time over its law evaluations, four per step), the same for a batch
-of runs from perturbed initial configurations in one call, Bayle's law in the same simulation, and the
-reference. The ratios are the reference's time over mobman's; no timing is asserted.
+the spec's compiled simulation (the run's time over its law evaluations, four per step), a step of the same
+simulation with the ``hold`` integrator (one evaluation a step, held over it: a digital controller's loop, as
+the reference's per-step work), the same for a batch of runs from perturbed initial configurations in one
+call, Bayle's law in the same simulation, and the reference. The ratios are the reference's time over
+mobman's; no timing is asserted.
 """
 
 from __future__ import annotations
@@ -111,12 +113,19 @@ def main(argv=None) -> int:
     agreement = float(np.max(np.abs(ours - theirs)))
 
     # within the compiled simulation: the run's time over its law evaluations (four a step)
-    def simulation(law, q0):
-        return lambda: simulate(robot, task, law, parsed.reference, q0, parsed.duration, parsed.dt).q
+    def simulation(law, q0, integrator="auto"):
+        return lambda: (
+            simulate(
+                robot, task, law, parsed.reference, q0, parsed.duration, parsed.dt, integrator=integrator
+            ).q
+        )
 
     evaluations = 4 * steps
     simulation(qp, parsed.q0)()
     t_sim = best_time(simulation(qp, parsed.q0), 3) / evaluations
+    # a digital controller's loop: one evaluation a step, held over it (zero-order hold), as the reference's
+    simulation(qp, parsed.q0, "hold")()
+    t_hold = best_time(simulation(qp, parsed.q0, "hold"), 3) / steps
     q0s = parsed.q0 + rng.normal(size=(args.batch, robot.n_q)) * 0.01
     simulation(qp, q0s)()
     t_batch = best_time(simulation(qp, q0s), 3) / (evaluations * args.batch)
@@ -128,6 +137,7 @@ def main(argv=None) -> int:
     rows = [
         ("QP law, one configuration per call (mobman)", t_call),
         (f"QP law within the compiled simulation, {steps} steps (mobman)", t_sim),
+        ("  the same with the hold integrator: one evaluation a step", t_hold),
         (f"  {args.batch} runs in one call", t_batch),
         ("Bayle's law within the same simulation (mobman)", t_bayle),
         ("reference: Pinocchio computeFrameJacobian + quadprog, per call", t_ref),
