@@ -42,7 +42,9 @@ from mobman.errors import InputError
 from mobman.io import dump_json
 from mobman.io.numbers import parse_vector
 from mobman.manipulability import MEASURES
+from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Position
+from mobman.studies.maps import ReachabilityMap
 from mobman.studies.placement import LEVELS, Placement, out_of_reach, place, place_with_map
 
 
@@ -211,7 +213,7 @@ def place_command(
         )
 
 
-def _no_cell_at_height(robot: Any, reached: Any, height: float) -> str:
+def _no_cell_at_height(robot: MobileManipulator, reached: ReachabilityMap, height: float) -> str:
     """Why a map has no candidate for a target: the heights its reached cells span and, where the target's
     height is beyond them, the highest (lowest) point the tool reaches
     (:func:`mobman.studies.placement.closest_height`)."""

@@ -273,6 +273,11 @@ class _Setup:
         """The time axis of the recorded arrays (1 after a batch axis)."""
         return 1 if (self.batch_law or self.batch_q) else 0
 
+    @property
+    def laws(self) -> int:
+        """The number of laws of a batch of laws (1 for one law)."""
+        return int(jax.tree.leaves(self.law)[0].shape[0]) if self.batch_law else 1
+
 
 def _setup(
     robot: MobileManipulator,
@@ -351,9 +356,7 @@ def _scan_steps(setup: _Setup, chunk: int) -> int:
     """Steps of each compiled call computing pieces of ``chunk`` samples: the fewest calls of at most
     :data:`SCAN_SAMPLES` samples each, of equal length (the last call runs past the piece by fewer steps than
     there are calls)."""
-    runs = int(np.prod(setup.q0.shape[:-1])) if setup.batch_q else 1
-    if setup.batch_law:
-        runs = max(runs, int(jax.tree.leaves(setup.law)[0].shape[0]))
+    runs = max(int(np.prod(setup.q0.shape[:-1])) if setup.batch_q else 1, setup.laws)
     most = max(MIN_SCAN_STEPS, SCAN_SAMPLES // runs)
     return -(-chunk // -(-chunk // most))
 
@@ -368,10 +371,8 @@ def _pieces(setup: _Setup, chunk: int) -> Iterator[tuple[int, dict]]:
     steps = _scan_steps(setup, chunk)
     axis = setup.axis
     q, k, k0 = setup.q0, 0, 0
-    batch_q = setup.batch_q or setup.batch_law
     if setup.batch_law and not setup.batch_q:  # a batch of laws from one q0: one state per law from the start
-        laws = int(jax.tree.leaves(setup.law)[0].shape[0])
-        q = jnp.broadcast_to(jnp.asarray(q), (laws, *np.shape(q)))
+        q = jnp.broadcast_to(jnp.asarray(q), (setup.laws, *np.shape(q)))
     held: list[dict] = []
     while k0 < setup.n:
         wanted = min(chunk, setup.n - k0)
@@ -386,7 +387,7 @@ def _pieces(setup: _Setup, chunk: int) -> Iterator[tuple[int, dict]]:
                 setup.law,
                 q,
                 setup.batch_law,
-                batch_q,
+                setup.batch_q or setup.batch_law,
                 float(k),
             )
             held.append(jax.tree.map(np.asarray, out))
