@@ -93,7 +93,12 @@ def test_several_targets_are_reached_from_one_base_each_with_its_own_posture():
 
 
 def test_the_ranking_lists_each_relative_placement_once():
-    result = place(_planar(), [0.0, 0.0], radii=[0.3, 0.6, 0.9], bearings=6, headings=2, starts=2)
+    done = []
+    result = place(
+        _planar(), [0.0, 0.0], radii=[0.3, 0.6, 0.9], bearings=6, headings=2, starts=2,
+        progress=lambda d, total: done.append((d, total)),
+    )  # fmt: skip
+    assert done == [(72, 72)]  # 36 bases × 2 starts, one call
     everything = result.ranking(count=100, distinct=False)
     assert len(everything) == result.reached.sum() == 36
     assert np.all(np.diff(result.score[everything]) <= 0)

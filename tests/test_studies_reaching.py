@@ -93,3 +93,23 @@ def test_of_the_starts_that_reach_a_target_the_one_of_highest_manipulability_is_
     # where no start reaches the target, the closest start is kept and its score is NaN
     far, far_error, far_score = _solved(robot, np.zeros(3), [[5.0, 0, 1]], 3, 10, 1e-9)
     assert np.isnan(far_score).all() and far_error[0] > 3.0 and far.shape == (1, robot.n_q)
+
+
+def test_a_problem_run_in_calls_gives_the_rows_of_one_call_and_reports_its_progress(monkeypatch):
+    from mobman.studies import reaching
+
+    robot = robots.bayle_planar()
+    angle = np.linspace(-np.pi, np.pi, 9)
+    targets = np.stack([0.9 * np.cos(angle), 0.9 * np.sin(angle), np.zeros_like(angle)], axis=-1)
+    bases = np.array([[0.0, 0.0, 0.0], [0.3, -0.2, np.pi / 2]])[:, None]  # (2, 1, 3) against (9, 3)
+    starts = starting_postures(robot, 3)
+    whole = reach(robot, bases, targets, starts, TASK, 40)
+    padded = reach(robot, bases, targets, starts, TASK, 40, bucket=10)  # 54 rows as 60
+    monkeypatch.setattr(reaching, "CHUNK", 16)  # 54 rows: calls of 16, the last padded from 6
+    done = []
+    chunked = reach(robot, bases, targets, starts, TASK, 40, lambda d, total: done.append((d, total)))
+    assert done == [(16, 54), (32, 54), (48, 54), (54, 54)]
+    assert whole[0].shape == (2, 9, 3, robot.n_q) and whole[1].shape == (2, 9, 3)
+    for other in (padded, chunked):  # the same rows of other batch sizes: equal to round-off
+        np.testing.assert_allclose(other[0], whole[0], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(other[1], whole[1], rtol=0, atol=1e-12)

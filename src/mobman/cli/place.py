@@ -9,6 +9,7 @@ disc of ``--footprint`` (by default the one covering the platform's drawn shapes
 (:mod:`mobman.studies.floor`). A posture counts only when the robot there is free of collision with itself and
 with the obstacles and floor of ``--scene`` (``--no-collision``: not checked; :mod:`mobman.studies.clearance`),
 whose boxes on the floor are keep-out regions too; bases reached only with colliding postures are counted apart.
+A progress bar on standard error follows the inverse kinematics (``--quiet``: none).
 Exit status 3 when no base reaches it (the candidates are still printed), with
 one line saying why: a target beyond the robot's reach (its height above or below what any posture reaches,
 or every base farther than the arm reaches; :func:`mobman.studies.placement.out_of_reach`), or else the
@@ -29,12 +30,14 @@ from rich.table import Table
 from mobman.cli.app import app
 from mobman.cli.common import (
     FloorOption,
+    StudyOption,
     UrdfOption,
     array_text,
     floor_arguments,
     load_map,
     load_robot,
     not_reached,
+    progress_bar,
     urdf_options,
 )
 from mobman.cli.distance import ClearanceOption, clearance_arguments
@@ -126,6 +129,7 @@ def place_command(
     wheels: str | None = UrdfOption.wheels,
     lock: list[str] | None = UrdfOption.lock,
     platform_option: list[str] | None = UrdfOption.platform_option,
+    quiet: bool = StudyOption.quiet,
     json_output: bool = typer.Option(False, "--json", help="Print one JSON object."),
 ) -> None:
     """Find platform poses from which the arm reaches --target, ranked by manipulability."""
@@ -147,24 +151,28 @@ def place_command(
     solver.update(clearance_arguments(robot_name, robot, urdf, scene, collision, cover))
     if iterations is not None:
         solver["iterations"] = iterations
-    try:
-        if reachability is None:
-            task = robot.task
-            targets = [parse_vector(value, "--target", task.dim) for value in target]
-            result = place(robot, targets[0] if len(targets) == 1 else np.stack(targets), **given, **solver)
-        else:
-            if given:
-                raise InputError(
-                    f"--map: {', '.join('--' + name for name in given)} do not apply with a map (its cells are "
-                    "the candidates, its measure and level score them)"
+    with progress_bar("placing", not (quiet or json_output)) as bar:
+        solver["progress"] = None if bar is None else lambda done, total: bar(done / total)
+        try:
+            if reachability is None:
+                task = robot.task
+                targets = [parse_vector(value, "--target", task.dim) for value in target]
+                result = place(
+                    robot, targets[0] if len(targets) == 1 else np.stack(targets), **given, **solver
                 )
-            if len(target) > 1:
-                raise InputError("--map: one --target (a map's cells are placed for a point target)")
-            reached = load_map(reachability, robot)
-            task = Position("xyz", arm=reached.arm)
-            result = place_with_map(robot, reached, parse_vector(target[0], "--target", 3), **solver)
-    except InputError as exc:
-        raise InputError(_as_option(str(exc))) from None
+            else:
+                if given:
+                    raise InputError(
+                        f"--map: {', '.join('--' + name for name in given)} do not apply with a map (its cells are "
+                        "the candidates, its measure and level score them)"
+                    )
+                if len(target) > 1:
+                    raise InputError("--map: one --target (a map's cells are placed for a point target)")
+                reached = load_map(reachability, robot)
+                task = Position("xyz", arm=reached.arm)
+                result = place_with_map(robot, reached, parse_vector(target[0], "--target", 3), **solver)
+        except InputError as exc:
+            raise InputError(_as_option(str(exc))) from None
     ranking = [_entry(result, int(k)) for k in result.ranking(top)]
     report = {
         "robot": robot_name,

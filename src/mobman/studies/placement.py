@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -264,6 +264,7 @@ def place(
     footprint: FootprintDisc | float | Sequence[float] | None = None,
     scene: Scene | None = None,
     collision: CollisionModel | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Placement:
     """Try every platform pose of :func:`candidate_bases` for the task target ξ* ``target`` (m,) (module
     notes) and score the reached ones.
@@ -283,7 +284,8 @@ def place(
     by default :func:`mobman.studies.floor.footprint_disc` of the robot); ``scene``: the obstacles and floor
     a posture must be free of (with ``collision``, the robot's collision model, whose self pairs it must be
     free of too; by default :func:`mobman.model.collision_model.collision_model` at
-    :data:`mobman.studies.clearance.COVER_TOLERANCE` when a scene is given; neither: postures not checked).
+    :data:`mobman.studies.clearance.COVER_TOLERANCE` when a scene is given; neither: postures not checked);
+    ``progress(done, total)``: called as the inverse kinematics' rows (base, target and start) are solved.
     """
     task = K.resolve_task(robot, task)
     targets = _targets(target, task)
@@ -302,9 +304,8 @@ def place(
     floor = _floor(robot, keep_out, footprint, scene)
     bases = candidate_bases(centre, radii, bearings, headings)
     # every base with every target at once: (N, K) pairs, each its best posture (N, K, n_q)
-    found, errors = reach(
-        robot, bases[:, None], targets, starting_postures(robot, starts, seed), task, iterations
-    )
+    starting = starting_postures(robot, starts, seed)
+    found, errors = reach(robot, bases[:, None], targets, starting, task, iterations, progress)
     close = errors <= tolerance
     free = free_postures(checks, found, close)
     q, error, score = best(robot, found, errors, tolerance, task, measure, level, free)
@@ -330,6 +331,7 @@ def place_with_map(
     footprint: FootprintDisc | float | Sequence[float] | None = None,
     scene: Scene | None = None,
     collision: CollisionModel | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Placement:
     """Base placement from a reachability map of the robot's arm (:mod:`mobman.studies.maps`): inverse
     reachability (Vahrenkamp, Asfour, Dillmann, ICRA 2013).
@@ -341,7 +343,7 @@ def place_with_map(
     least-squares steps within the joint limits (:mod:`mobman.studies.reaching`) take the tool onto the
     target ``p`` (x, y, z); a base reaches it within ``tolerance``. Bases are scored by the map's measure and
     level. No inverse kinematics from random starts: a map computed once serves any number of targets.
-    ``keep_out``, ``footprint``, ``scene`` and ``collision``: as in :func:`place`.
+    ``keep_out``, ``footprint``, ``scene``, ``collision`` and ``progress``: as in :func:`place`.
     """
     if not isinstance(reachability, ReachabilityMap):
         raise InputError(f"reachability must be a ReachabilityMap, got {type(reachability).__name__}")
@@ -368,15 +370,11 @@ def place_with_map(
     task = Position("xyz", arm=reachability.arm)
     # the candidates padded to a whole number of BUCKET rows: targets at other heights have other counts,
     # and each count would compile the solver again (seconds) for a query that takes a fraction of one
-    n = len(bases)
-    rows = np.minimum(np.arange(-(-n // BUCKET) * BUCKET), max(n - 1, 0))
-    found, errors = (
-        reach(robot, bases[rows], target, starts[rows], task, iterations) if n else _nothing(robot)
-    )
-    close = errors[:n] <= tolerance
-    free = free_postures(checks, found[:n], close)
+    found, errors = reach(robot, bases, target, starts, task, iterations, progress, BUCKET)
+    close = errors <= tolerance
+    free = free_postures(checks, found, close)
     q, error, score = best(
-        robot, found[:n], errors[:n], tolerance, Position(reachability.scored, arm=reachability.arm),
+        robot, found, errors, tolerance, Position(reachability.scored, arm=reachability.arm),
         reachability.measure, reachability.level, free,
     )  # fmt: skip
     every = ~np.isnan(score)
@@ -440,11 +438,6 @@ def _placement(
 def _revolute(robot: MobileManipulator) -> tuple[bool, ...]:
     """Which of the arms' coordinates are angles of revolute joints."""
     return tuple(j.kind == "revolute" for arm in robot.arms for j in arm.joints)
-
-
-def _nothing(robot: MobileManipulator) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`reach`'s result for no candidate at all."""
-    return np.zeros((0, 1, robot.n_q)), np.zeros((0, 1))
 
 
 def _distances(radii: npt.ArrayLike) -> np.ndarray:

@@ -11,11 +11,15 @@ with e the task's error of ξ(q) with respect to ξ* (the difference, or the rot
 Projection onto the joint limits keeps every posture admissible. Each base and target keeps one start
 (:func:`best`): of those that reach the target, the one of highest manipulability.
 The solver is one compiled loop (``lax.fori_loop``) batched over bases, starts and targets by
-:func:`mobman.engine.batched.batched`. :mod:`mobman.studies.placement` (many bases, one target) and
+:func:`mobman.engine.batched.batched`; a large problem runs as several such calls of :data:`CHUNK`
+rows, with its progress reported and Ctrl-C answered between them. :mod:`mobman.studies.placement` (many bases, one target) and
 :mod:`mobman.studies.maps` (one base, many targets) are built on it.
 """
 
 from __future__ import annotations
+
+import math
+from typing import Callable
 
 import jax
 import jax.numpy as jnp
@@ -24,7 +28,7 @@ import numpy.typing as npt
 
 from mobman import kinematics as K
 from mobman import manipulability as mp
-from mobman.engine.batched import batched
+from mobman.engine.batched import MIN_SHARE, batched
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Task
 from mobman.redundancy import sample_configurations
@@ -36,6 +40,12 @@ DAMPING = 1e-3
 MAX_STEP = 0.5
 """Largest change of one arm coordinate per step (rad or m): a step from far away stays in the region where
 J_a describes the motion."""
+
+
+CHUNK = 2 * MIN_SHARE
+"""Rows (base, target and start) of one compiled call of :func:`reach`: a larger problem runs as calls of
+this many rows, reporting its progress and answering Ctrl-C between them. Two shares of
+:data:`mobman.engine.batched.MIN_SHARE`, so that every call still runs on two cores."""
 
 
 def starting_postures(robot: MobileManipulator, starts: int, seed: int = 0) -> np.ndarray:
@@ -93,16 +103,35 @@ def reach(
     starts: np.ndarray,
     task: Task,
     iterations: int,
+    progress: Callable[[int, int], None] | None = None,
+    bucket: int = 1,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The posture reached from each of ``starts`` (S, n_q − n_platform) for each pair of platform pose
     ``bases`` (..., 3) and task target ``targets`` (..., m), broadcast against each other: (q (..., S, n_q),
     the norm of the task's error there (..., S)). The platform's further coordinates, such as a steering
     angle, are 0. An error is inf where J was undefined on the way (an Euler task's gimbal lock). The
-    arguments are taken as checked (the callers check them)."""
+    arguments are taken as checked (the callers check them).
+
+    The rows run as calls of :data:`CHUNK` (module notes), the last one padded to a whole call, so that a
+    problem compiles the solver once; ``progress(done, total)`` is called with the rows done after each
+    call. ``bucket``: a problem of one call is padded to a whole multiple of this many rows, so that
+    problems whose sizes differ a little (a map's cells at other heights) share a compiled solver."""
     base = np.asarray(bases, dtype=float)[..., None, :]
     target = np.asarray(targets, dtype=float)[..., None, :]
-    q, error = _solve(robot, base, np.asarray(starts, dtype=float), target, task, int(iterations))
-    return np.asarray(q), np.where(np.isnan(error), np.inf, np.asarray(error))
+    start = np.asarray(starts, dtype=float)
+    lead = np.broadcast_shapes(base.shape[:-1], start.shape[:-1], target.shape[:-1])
+    rows = math.prod(lead)
+    flat = [np.broadcast_to(a, lead + a.shape[-1:]).reshape(rows, a.shape[-1]) for a in (base, start, target)]
+    size = CHUNK if rows > CHUNK else -(-rows // bucket) * bucket
+    q, error = np.empty((rows, robot.n_q)), np.empty(rows)
+    for first in range(0, rows, CHUNK):
+        done = min(first + CHUNK, rows)
+        take = np.minimum(np.arange(first, first + size), rows - 1)  # padded with the last row
+        q_chunk, error_chunk = _solve(robot, *(f[take] for f in flat), task, int(iterations))
+        q[first:done], error[first:done] = np.asarray(q_chunk)[: done - first], error_chunk[: done - first]
+        if progress is not None:
+            progress(done, rows)
+    return q.reshape(lead + (robot.n_q,)), np.where(np.isnan(error), np.inf, error).reshape(lead)
 
 
 def best(
