@@ -136,3 +136,17 @@ def test_configurations_on_the_device_are_checked_there_and_not_copied(monkeypat
     as_int = K.validated_q(robot, jnp.zeros((3, 5), dtype=jnp.int32))
     assert isinstance(as_int, jax.Array) and as_int.dtype == jnp.float64
     np.testing.assert_array_equal(K.reduced_jacobian(robot, q), K.reduced_jacobian(robot, np.asarray(q)))
+
+
+@pytest.mark.parametrize("robot", ALL, ids=lambda r: r.name)
+def test_first_order_is_forward_jacobian_reduced_jacobian_and_the_representation_flag_at_once(robot):
+    special = np.array([-math.pi, -math.pi / 2, 0.0, math.pi / 2, math.pi])
+    corners = special[(np.arange(5)[:, None] + np.arange(robot.n_q)) % 5]  # each joint at each value
+    q = np.clip(np.concatenate([_random_q(robot, 6, seed=3), corners]), *np.array(robot.position_limits).T)
+    first = K.first_order(robot, q)
+    np.testing.assert_allclose(first["xi"], K.forward(robot, q), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(first["J"], K.jacobian(robot, q), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(first["J_bar"], K.reduced_jacobian(robot, q), rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(first["representation_singular"], K.representation_singular(robot, q))
+    one = K.first_order(robot, q[0])  # one configuration: no leading axis
+    assert one["J"].shape == (robot.task.dim, robot.n_q) and one["representation_singular"].shape == ()

@@ -104,6 +104,23 @@ def reduced_jacobian(robot: MobileManipulator, q: jax.Array, task: Task | None =
 
 
 @batched({1: 1}, static=(0, 2), validate=_robot_q_task)
+def first_order(robot: MobileManipulator, q: jax.Array, task: Task | None = None) -> dict[str, jnp.ndarray]:
+    """ξ = f(q), J, J̄ = J S (Bayle eq. 1–2) and whether ξ is singular as a representation there
+    (:func:`representation_singular`), from one compiled program: ``{"xi": (..., m), "J": (..., m, n_q),
+    "J_bar": (..., m, n_eta), "representation_singular": (...)}``. What an analysis of configurations needs
+    at once, for the cost of tracing and compiling one program instead of four (J̄ formed from J)."""
+    assert task is not None  # resolved by the validator
+    frames = robot.frames(q)
+    j = task.jacobian(robot, q, frames)
+    return {
+        "xi": task.value(robot, q, frames),
+        "J": j,
+        "J_bar": robot.apply_S(j, q),
+        "representation_singular": task.representation_singular(robot, q, frames),
+    }
+
+
+@batched({1: 1}, static=(0, 2), validate=_robot_q_task)
 def _representation(robot: MobileManipulator, q: jax.Array, task: Task | None = None) -> jnp.ndarray:
     assert task is not None  # resolved by the validator
     return task.representation_singular(robot, q, robot.frames(q))

@@ -143,7 +143,6 @@ def _as_jacobian(j: npt.ArrayLike) -> jnp.ndarray:
     return arr
 
 
-_all_finite = jax.jit(lambda a: jnp.all(jnp.isfinite(a)))
 _all_within = jax.jit(lambda a, bound: jnp.all(jnp.abs(a) <= bound))  # False for NaN too
 
 
@@ -246,8 +245,9 @@ def admissible_ranks(robot: MobileManipulator, task: Task | None = None) -> dict
     :func:`mobman.redundancy.redundancy_report`); ``"system_normalized"`` equals ``"system"``."""
     from mobman import redundancy
 
-    q = redundancy.sample_configurations(robot, 32)
-    d_arm = int(K.rank(np.asarray(arm_jacobian(robot, q, task)), redundancy.RTOL).max())
+    q = redundancy.sample_configurations(robot)  # the report's samples: their J is one compiled program
+    j_arm = np.asarray(K.first_order(robot, q, task)["J"])[..., robot.arm_slice(0)]
+    d_arm = int(K.rank(j_arm, redundancy.RTOL).max())
     d_bar = redundancy.redundancy_report(robot, task).D_bar
     return {"arm": d_arm, "system": d_bar, "system_normalized": d_bar}
 
@@ -282,13 +282,14 @@ def analyze(robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None
     (the arm's to min(r, n_a)); ``"auto"``: restricted to the admissible subspace wherever the generic rank
     (D̄ for the system) is below m. ``restricted`` says whether any reported measure is a restricted one.
     """
-    jac = K.jacobian(robot, q, task)
-    if not bool(_all_finite(jac)):
+    first = K.first_order(robot, q, task)  # the program analyze's other quantities come from
+    jac = np.asarray(first["J"])
+    if not np.isfinite(jac).all():
         raise SingularConfigurationError(
             "manipulability: J holds NaN or infinite entries at configurations where the task's coordinates "
             "are singular as a representation (see mobman.kinematics.representation_singular)"
         )
-    jbar = jac @ K.S(robot, q)
+    jbar = np.asarray(first["J_bar"])
     j_arm = jac[..., robot.arm_slice(0)]
     ranks: dict[str, int | None]
     if isinstance(rank, (int, np.integer)):

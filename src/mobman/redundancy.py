@@ -83,8 +83,8 @@ def ranks(
     robot: MobileManipulator, q: npt.ArrayLike, task: Task | None = None, rtol: float = RTOL
 ) -> tuple[np.ndarray, np.ndarray]:
     """(d(q), d̄(q)) = (rank J(q), rank J̄(q)), integer arrays with the leading shape of q."""
-    j = np.asarray(K.jacobian(robot, q, task))
-    jbar = np.asarray(K.reduced_jacobian(robot, q, task))
+    first = K.first_order(robot, q, task)
+    j, jbar = np.asarray(first["J"]), np.asarray(first["J_bar"])
     _check_finite(j, "J")
     return K.rank(j, rtol), K.rank(jbar, rtol)
 

@@ -112,10 +112,9 @@ def analysis(robot: MobileManipulator, q: np.ndarray, outside: list[list[str]] |
     from them are null. ``outside_limits`` names the coordinates outside the joint limits (``outside``:
     already found by the caller)."""
     report = redundancy.redundancy_report(robot)
-    xi = np.asarray(K.forward(robot, q))
-    jac = np.asarray(K.jacobian(robot, q))
-    jbar = np.asarray(K.reduced_jacobian(robot, q))
-    representation = K.representation_singular(robot, q)
+    first = K.first_order(robot, q)
+    xi, jac, jbar = (np.asarray(first[name]) for name in ("xi", "J", "J_bar"))
+    representation = np.asarray(first["representation_singular"], dtype=bool)
     finite = np.isfinite(jac).all(axis=(-2, -1)) & np.isfinite(jbar).all(axis=(-2, -1))
     regular = iter(_regular_quantities(robot, q[finite], jbar[finite]) if finite.any() else ())
     if outside is None:
