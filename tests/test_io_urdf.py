@@ -662,3 +662,11 @@ def test_a_velocity_limit_of_zero_is_no_limit_as_urdf_writers_mean_it_and_says_s
     with pytest.warns(UrdfWarning, match="velocity limit 0 read as none given .*: joint 'j1'$"):
         robot = load_urdf(_edited(tmp_path, 'velocity="1.5"', 'velocity="0"'), tip="tool")
     assert robot.arms[0].joints[0].velocity_max is None
+
+
+def test_a_file_changed_after_a_reading_is_read_again(tmp_path):
+    path = husky(tmp_path)
+    options = {"tip": "tool", "base": "base_link", "platform": "skid_steer"}
+    assert read_urdf(path, **options).robot.arms[0].joints[0].upper == 0.5
+    path.write_text(path.read_text().replace('upper="0.5" velocity="0.1"', 'upper="0.25" velocity="0.1"'))
+    assert read_urdf(path, **options).robot.arms[0].joints[0].upper == 0.25

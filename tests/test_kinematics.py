@@ -150,3 +150,16 @@ def test_first_order_is_forward_jacobian_reduced_jacobian_and_the_representation
     np.testing.assert_array_equal(first["representation_singular"], K.representation_singular(robot, q))
     one = K.first_order(robot, q[0])  # one configuration: no leading axis
     assert one["J"].shape == (robot.task.dim, robot.n_q) and one["representation_singular"].shape == ()
+
+
+@pytest.mark.parametrize("robot", ALL[:2], ids=lambda r: r.name)
+def test_frames_are_the_robot_s_frames_from_one_compiled_program(robot):
+    q = _random_q(robot, 4, seed=5)
+    for value in (q, q[0]):
+        compiled, direct = K.frames(robot, value), robot.frames(jnp.asarray(value))
+        for got, expected in zip(jax.tree.leaves((compiled.platform, compiled.mounts, compiled.links)),
+                                 jax.tree.leaves((direct.platform, direct.mounts, direct.links))):  # fmt: skip
+            assert isinstance(got, np.ndarray)
+            np.testing.assert_allclose(got, expected, rtol=0, atol=1e-14)
+    traced = jax.jit(lambda x: K.frames(robot, x).links[0][1])(q[0])  # inside a program: traced
+    np.testing.assert_allclose(traced, K.frames(robot, q[0]).links[0][1], rtol=0, atol=1e-14)

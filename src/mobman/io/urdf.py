@@ -86,6 +86,7 @@ from __future__ import annotations
 
 import contextlib
 import difflib
+import functools
 import logging
 import math
 import os
@@ -240,8 +241,6 @@ def _parse(path: str | os.PathLike[str]) -> tuple[Any, Path]:
     """The file read by yourdfpy, after it is found well-formed XML with unique link and joint names
     (yourdfpy's parser repairs a damaged file and keeps one of two links of a name) and its numbers checked
     (:func:`_check_numbers`); every error one line naming the file."""
-    import yourdfpy
-
     if not isinstance(path, (str, os.PathLike)) or isinstance(os.fspath(path), bytes):
         raise InputError(f"path must be a URDF file's path (str or os.PathLike), got {type(path).__name__}")
     file = Path(path)
@@ -253,6 +252,16 @@ def _parse(path: str | os.PathLike[str]) -> tuple[Any, Path]:
         )
     if not file.is_file():
         raise InputError(f"{file}: no such file")
+    stat = file.stat()
+    return _parsed(file, stat.st_mtime_ns, stat.st_size)
+
+
+@functools.lru_cache(maxsize=8)
+def _parsed(file: Path, mtime_ns: int, size: int) -> tuple[Any, Path]:
+    """:func:`_parse` of an existing file, kept per version of the file (its modification time and size): a
+    command reads a robot's file for its chains and again for its collision shapes."""
+    import yourdfpy
+
     try:
         text = file.read_text(errors="replace")
     except OSError as exc:
@@ -1230,7 +1239,9 @@ def collision_shapes(model: UrdfModel) -> dict[tuple[int, int], tuple[Visual, ..
         for i, chain in enumerate(summary.chains)
         for k, name in enumerate(chain)
     }
-    rotations, origins = robot.frames(np.zeros(robot.n_q)).links[0]  # the platform at the world's origin
+    from mobman.kinematics import frames as compiled_frames  # the kinematics module imports the model
+
+    rotations, origins = compiled_frames(robot, np.zeros(robot.n_q)).links[0]  # the platform at the origin
     first = spatial.as_matrix(spatial.transform(np.asarray(rotations[0]), tuple(np.asarray(origins[0]))))
     frames: dict[tuple[int, int] | None, np.ndarray] = {
         None: poses[tree.joints[summary.chains[0][0]].child] @ np.linalg.inv(first)

@@ -178,7 +178,9 @@ def neutral_posture(robot: MobileManipulator) -> np.ndarray:
 
 def body_poses(robot: MobileManipulator, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     """World poses (R, p) of every body (platform, then each arm's links) at one configuration ``q``."""
-    frames = robot.frames(np.asarray(q, dtype=float))
+    from mobman.kinematics import frames as compiled_frames  # the kinematics module imports the model
+
+    frames = compiled_frames(robot, np.asarray(q, dtype=float))
     poses = [(np.asarray(frames.platform[0]), np.asarray(frames.platform[1]))]
     for (rs, ps), arm in zip(frames.links, robot.arms):
         poses += [(np.asarray(rs[k]), np.asarray(ps[k])) for k in range(arm.n_joints)]
