@@ -303,10 +303,17 @@ def load_capacity_command(
     max_steps: int = typer.Option(
         MAX_STEPS, "--max-steps", help="Refuse motions of more time steps than this (duration / dt)."
     ),
+    physics: str | None = typer.Option(
+        None,
+        "--physics",
+        help="mujoco: run the motion on MuJoCo with 0.9 and 1.2 times the capacity (needs mobman[physics]).",
+    ),
 ) -> None:
     """Maximum payload mass keeping every actuator inside its torque–speed envelope along the motion."""
     from mobman.dynamics.load_capacity import eta_dot_from_samples, max_load
 
+    if physics not in (None, "mujoco"):
+        raise InputError(f"--physics must be mujoco, got {physics!r}")
     if out is not None:
         check_folder(out, "load-capacity")
     spec = load(spec_path, max_steps)
@@ -318,6 +325,9 @@ def load_capacity_command(
         "motion": spec.motion,
         **result.summary(),
     }
+    runs = () if physics is None else _on_physics(spec, result)
+    if runs:
+        summary["physics"] = _physics_summary(runs, result)
     if out is not None:
         from mobman.viz import plot_torques
 
@@ -334,15 +344,66 @@ def load_capacity_command(
         with results_folder(out, "load-capacity") as staging:
             write_text(staging / "results.json", dump_json({**summary, "series": series}))
             save_figure(plot_torques(result, title), staging / "torques.png", dpi=120)
+            if runs:
+                from mobman.viz import plot_load_runs
+
+                title = f"{spec_path.name} on MuJoCo: {result.limiting_actuator}'s torque vs its envelope"
+                figure = plot_load_runs(runs, str(result.limiting_actuator), title)
+                save_figure(figure, staging / "physics_torques.png", dpi=120)
     if json_output:
         typer.echo(dump_json(summary))
     else:
         _print(spec_path, spec, result, summary, out)
+    if runs:
+        _check_physics(summary["physics"])
     envelope = (result.tau0, result.tau1, result.lower, result.upper)
     if not result.bounded and not all(np.all(np.isfinite(a)) for a in envelope):
         not_reached(
             "load-capacity", "unbounded because some torques or envelopes are not finite (check the data)"
         )
+
+
+def _on_physics(spec: LoadSpec, result: LoadCapacity) -> tuple:
+    """The motion run on MuJoCo with :data:`mobman.physics.load.FRACTIONS` of the capacity."""
+    from mobman.physics.load import check_capacity
+
+    if not result.bounded:
+        raise InputError("--physics: the capacity is unbounded (no limited actuator depends on the load)")
+    return check_capacity(spec.model, spec.t, spec.q, spec.actuators, result)
+
+
+def _physics_summary(runs: tuple, result: LoadCapacity) -> dict:
+    """Each run's figures, with the limiting actuator's torque at the limiting time as MuJoCo's inverse
+    dynamics asked for it and as mobman predicts it (τ0 + m τ1)."""
+    name, time = str(result.limiting_actuator), float(result.limiting_time)
+    column = result.names.index(name)
+    sample = int(np.argmin(np.abs(result.t - time)))
+    entries = []
+    for run in runs:
+        step = int(np.argmin(np.abs(run.t - time)))
+        entries.append(
+            {
+                **run.as_dict(),
+                "fraction": run.mass / result.max_load,
+                "at_limiting_time": {
+                    "mujoco": float(run.required[step, run.names.index(name)]),
+                    "mobman": float(result.torques(run.mass)[sample, column]),
+                },
+            }
+        )
+    return {"engine": "mujoco", "limiting_actuator": name, "runs": entries}
+
+
+def _check_physics(physics: dict) -> None:
+    """Exit status 3 unless the first run never saturated and the last one did."""
+    below, above = physics["runs"][0], physics["runs"][-1]
+    if below["first_saturation"] is not None:
+        not_reached(
+            "load-capacity",
+            f"on MuJoCo {below['fraction']:.0%} of the capacity saturated at t = {below['first_saturation']:.3f} s",
+        )
+    if above["first_saturation"] is None:
+        not_reached("load-capacity", f"on MuJoCo {above['fraction']:.0%} of the capacity never saturated")
 
 
 def _print(spec_path: Path, spec: LoadSpec, result: LoadCapacity, summary: dict, out: Path | None) -> None:
@@ -369,5 +430,27 @@ def _print(spec_path: Path, spec: LoadSpec, result: LoadCapacity, summary: dict,
     console.print(f"maximum allowable load: {load_text}")
     if result.bounded:
         console.print(f"limiting actuator: {result.limiting_actuator} at t = {result.limiting_time:.4f} s")
+    if "physics" in summary:
+        physics = Table(title=f"on MuJoCo: {summary['physics']['limiting_actuator']} at the limiting time")
+        for column in (
+            "payload (kg)",
+            "of capacity",
+            "saturated steps",
+            "tracking error",
+            "τ MuJoCo",
+            "τ mobman",
+        ):
+            physics.add_column(column, justify="right")
+        for run in summary["physics"]["runs"]:
+            torque = run["at_limiting_time"]
+            physics.add_row(
+                f"{run['mass_kg']:.4f}",
+                f"{run['fraction']:.0%}",
+                str(sum(run["saturated_steps"].values())),
+                f"{run['tracking_error']:.2e}",
+                f"{torque['mujoco']:.4f}",
+                f"{torque['mobman']:.4f}",
+            )
+        console.print(physics)
     if out is not None:
         console.print(f"results: {out / 'results.json'}, figure: {out / 'torques.png'}")

@@ -29,7 +29,10 @@ The model (:func:`to_mjspec`; :func:`mjcf_text` is the MJCF file MuJoCo's viewer
   *omnidirectional*: no wheels: planar slide joints x, y and a hinge θ (the body held at floor level by its
   joints, not by contacts), each with a velocity servo (η_p = (ẋ, ẏ, θ̇) exactly); *fixed*: the platform
   welded to the world. Another kind
-  has no MuJoCo form (:class:`mobman.ModelError`).
+  has no MuJoCo form (:class:`mobman.ModelError`). ``platform="prescribed"`` builds, for any platform whose
+  coordinates are (x, y, θ), the platform body on slide joints x, y and a hinge θ named by mobman's
+  coordinates, without wheels or platform actuators: a caller drives the platform along a prescribed motion
+  (the load-capacity check, :mod:`mobman.physics.load`; Korayem et al. prescribe the base's motion).
 - **arms**: one body per joint in its joint frame after the motion (mobman's origin, then the motion about
   ``axis``; the offset folded into the body frame, so MuJoCo's joint position is mobman's q), the link's
   :class:`mobman.LinkInertial` (principal moments completed by :func:`completed_inertia` where the papers give
@@ -73,6 +76,9 @@ INSTALL = 'pip install -e ".[physics]"'
 """The line that installs MuJoCo with mobman."""
 
 KINDS = ("differential", "skid_steer", "car", "omnidirectional", "fixed")
+
+PLATFORM_FORMS = ("wheels", "prescribed")
+"""How :func:`to_mjspec` builds the platform: on its wheels, or on joints x, y, θ driven by the caller."""
 """The platform kinds with a MuJoCo form."""
 
 WHEEL_TIME_CONSTANT = 0.02
@@ -170,6 +176,7 @@ def to_mjspec(
     torque_limits: npt.ArrayLike | None = None,
     friction: float = 1.0,
     timestep: float = 1e-3,
+    platform: str = "wheels",
 ) -> "mujoco.MjSpec":
     """The robot as a MuJoCo model (the module docstring lists what is built), standing at q = 0.
 
@@ -178,7 +185,8 @@ def to_mjspec(
     actuator in the order of :func:`mobman.model.robot.actuator_names` (wheels, then joints; N·m or N; ``inf``
     for none), default the joints' ``effort_max`` and unlimited wheels; friction: the sliding friction
     coefficient of the wheels on the floor (> 0); timestep: MuJoCo's step (s, > 0); scene: obstacles
-    (:class:`mobman.model.scene.Scene`) added as static geoms (:func:`add_scene`).
+    (:class:`mobman.model.scene.Scene`) added as static geoms (:func:`add_scene`); platform: ``"wheels"``
+    (the platform on its wheels, as its kind is built) or ``"prescribed"`` (on joints x, y, θ; module notes).
 
     Returns the :class:`mujoco.MjSpec`; ``spec.compile()`` is the ``MjModel``, :func:`mjcf_text` the MJCF
     text.
@@ -194,12 +202,20 @@ def to_mjspec(
         raise InputError(f"friction must be a finite number > 0, got {friction!r}")
     if not (math.isfinite(timestep) and timestep > 0):
         raise InputError(f"timestep must be a finite number > 0 (s), got {timestep!r}")
+    if platform not in PLATFORM_FORMS:
+        raise InputError(f"platform must be one of {', '.join(PLATFORM_FORMS)}, got {platform!r}")
+    planar = model.robot.n_platform == 3 and model.robot.coordinate_names[:3] == ("x", "y", "theta")
+    if platform == "prescribed" and not planar:
+        raise ModelError(f"{model.robot.name}: a prescribed platform needs the coordinates x, y, theta alone")
     limits = _torque_limits(model.robot, torque_limits)
     if any(arm.coupling is not None for arm in model.robot.arms):
         raise ModelError(f"{model.robot.name}: an arm with a joint coupling has no MuJoCo form")
     spec = _world(mj, model.robot.name, friction, timestep)
     builder = _Builder(mj, spec, model, limits)
-    builder.platform()
+    if platform == "wheels":
+        builder.platform()
+    else:
+        builder.prescribed_platform()
     builder.arms()
     if scene is not None:
         add_scene(spec, scene)
@@ -389,6 +405,18 @@ class _Builder:
                     self.wheel_actuator(name, "joint", joints[k], k, sites[k].radius)
             else:
                 self.sides(joints, sites)
+
+    def prescribed_platform(self) -> None:
+        """The platform body (mobman's lumped body: its mass, centre of mass and vertical moment) on slide
+        joints along world x and y and a hinge about z, named by the platform's coordinates; no wheels, no
+        actuators (module notes)."""
+        mj, body = self.mj, self.model.body
+        self.base = self.spec.worldbody.add_body(name="platform")
+        kinds = ("mjJNT_SLIDE", "mjJNT_SLIDE", "mjJNT_HINGE")
+        for name, axis, kind in zip(self.robot.coordinate_names[:3], np.eye(3), kinds):
+            self.base.add_joint(name=name, type=getattr(mj.mjtJoint, kind), axis=axis)
+        flat = np.diag([body.inertia_z / 2, body.inertia_z / 2, body.inertia_z])
+        self.inertial(self.base, body.mass, body.com, flat)
 
     def carved_inertia_z(self, com: np.ndarray, sites: Any, masses: list[float], wheel: Wheel) -> float:
         """The vertical moment I_c' (about the vertical through ``com``) of the platform body left when the

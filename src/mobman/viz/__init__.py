@@ -21,7 +21,7 @@ from mobman.viz.ellipses import ellipse_outline, plot_ellipses  # noqa: E402
 from mobman.viz.maps import best_along, plot_reachability  # noqa: E402
 from mobman.viz.paths import draw_robot, frame_points, plot_paths, plot_paths_3d  # noqa: E402
 from mobman.viz.timeseries import draw_curves, plot_timeseries  # noqa: E402
-from mobman.viz.torques import plot_torques  # noqa: E402
+from mobman.viz.torques import plot_load_runs, plot_torques  # noqa: E402
 
 __all__ = [
     "draw_curves",
@@ -34,5 +34,6 @@ __all__ = [
     "plot_paths_3d",
     "plot_reachability",
     "plot_timeseries",
+    "plot_load_runs",
     "plot_torques",
 ]

@@ -1,7 +1,9 @@
-"""Required actuator torques along a motion against their torque–speed envelopes (load capacity)."""
+"""Required actuator torques along a motion against their torque–speed envelopes (load capacity), predicted
+and run on physics."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -11,6 +13,7 @@ from mobman.viz.timeseries import plot_timeseries
 
 if TYPE_CHECKING:
     from mobman.dynamics.load_capacity import LoadCapacity
+    from mobman.physics.load import LoadRun
 
 
 def plot_torques(capacity: LoadCapacity, title: str | None = None) -> Figure:
@@ -33,3 +36,19 @@ def plot_torques(capacity: LoadCapacity, title: str | None = None) -> Figure:
         {f"limit: {capacity.limiting_actuator}": [limit]} if capacity.bounded and limit is not None else None
     )
     return plot_timeseries(capacity.t, panels, title=title, events=events)
+
+
+def plot_load_runs(runs: Sequence[LoadRun], actuator: str, title: str | None = None) -> Figure:
+    """One panel per run on physics (:mod:`mobman.physics.load`): the torque of ``actuator`` the servo asked
+    for and the one applied, against its envelope at the measured speed."""
+    i = runs[0].names.index(actuator)
+    panels = {
+        f"{actuator}, m = {run.mass:.3f} kg (N·m)": {
+            "τ asked": run.required[:, i],
+            "τ applied": run.applied[:, i],
+            "T⁺": run.upper[:, i],
+            "T⁻": run.lower[:, i],
+        }
+        for run in runs
+    }
+    return plot_timeseries(runs[0].t, panels, title=title)
