@@ -18,7 +18,6 @@ Traced code (inside ``jit``, ``grad``, ``vmap``) calls the per-configuration ker
 
 from __future__ import annotations
 
-import functools
 from typing import Callable
 
 import jax
@@ -29,7 +28,7 @@ import numpy.typing as npt
 from mobman.checks import all_finite
 from mobman.engine.batched import batched, traced
 from mobman.errors import InputError, SingularConfigurationError
-from mobman.model.robot import Frames, MobileManipulator
+from mobman.model.robot import Frames, MobileManipulator, compiled_frames
 from mobman.model.tasks import Task
 
 
@@ -151,18 +150,10 @@ def constraints(robot: MobileManipulator, q: jax.Array) -> jnp.ndarray:
 
 def frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
     """World poses of platform, mounts and arm frames of configurations q (..., n_q) (see :class:`Frames`):
-    NumPy arrays from one compiled program (evaluated op by op, each of its few dozen operations would be
-    compiled on its own, seconds in all); traced q is evaluated in the caller's program."""
+    NumPy arrays from one compiled program (:func:`mobman.model.robot.compiled_frames`); traced q is
+    evaluated in the caller's program."""
     q = validated_q(robot, q)
-    if traced(q):
-        return robot.frames(q)
-    return Frames(*jax.tree.map(np.asarray, _frames(robot, q)))
-
-
-@functools.partial(jax.jit, static_argnums=0)
-def _frames(robot: MobileManipulator, q: jax.Array) -> tuple:
-    poses = robot.frames(q)
-    return poses.platform, poses.mounts, poses.links
+    return robot.frames(q) if traced(q) else compiled_frames(robot, q)
 
 
 def _vector(x: npt.ArrayLike, name: str, size: int) -> np.ndarray | jax.Array:

@@ -104,7 +104,7 @@ from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.inertial import PlatformBody, Wheel
 from mobman.model.platforms import Platform, platform_class, platform_kinds
 from mobman.model.platforms.urdf_form import UrdfPlatform, UrdfWheel, distance
-from mobman.model.robot import MobileManipulator, actuator_names
+from mobman.model.robot import MobileManipulator, actuator_names, compiled_frames
 from mobman.model.visual import Visual
 
 _MOVING = ("revolute", "continuous", "prismatic")
@@ -1239,8 +1239,6 @@ def collision_shapes(model: UrdfModel) -> dict[tuple[int, int], tuple[Visual, ..
         for i, chain in enumerate(summary.chains)
         for k, name in enumerate(chain)
     }
-    from mobman.kinematics import frames as compiled_frames  # the kinematics module imports the model
-
     rotations, origins = compiled_frames(robot, np.zeros(robot.n_q)).links[0]  # the platform at the origin
     first = spatial.as_matrix(spatial.transform(np.asarray(rotations[0]), tuple(np.asarray(origins[0]))))
     frames: dict[tuple[int, int] | None, np.ndarray] = {

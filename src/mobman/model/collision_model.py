@@ -44,7 +44,7 @@ import numpy as np
 from mobman import checks
 from mobman.errors import ModelError
 from mobman.model import primitives, spatial
-from mobman.model.robot import MobileManipulator
+from mobman.model.robot import MobileManipulator, compiled_frames
 from mobman.model.visual import Visual
 
 DEFAULT_TOLERANCE = 0.05
@@ -178,8 +178,6 @@ def neutral_posture(robot: MobileManipulator) -> np.ndarray:
 
 def body_poses(robot: MobileManipulator, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     """World poses (R, p) of every body (platform, then each arm's links) at one configuration ``q``."""
-    from mobman.kinematics import frames as compiled_frames  # the kinematics module imports the model
-
     frames = compiled_frames(robot, np.asarray(q, dtype=float))
     poses = [(np.asarray(frames.platform[0]), np.asarray(frames.platform[1]))]
     for (rs, ps), arm in zip(frames.links, robot.arms):

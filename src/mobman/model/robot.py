@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cached_property, partial
 from typing import TYPE_CHECKING
 
 import jax
@@ -410,3 +410,16 @@ def actuator_names(robot: MobileManipulator) -> tuple[str, ...]:
     """The actuators of a robot in τ order: the platform's (``platform.actuator_names``: its driven wheels, or
     one per quasi-velocity), then the arm joints."""
     return robot.platform.actuator_names + tuple(robot.coordinate_names[robot.n_platform :])
+
+
+def compiled_frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
+    """:meth:`MobileManipulator.frames` of configurations q (..., n_q) as NumPy arrays from one compiled
+    program: evaluated operation by operation, each of its few dozen operations would be compiled on its own
+    (seconds in all). q is taken as checked (:func:`mobman.kinematics.frames` checks it)."""
+    return Frames(*jax.tree.map(np.asarray, _frames_program(robot, jnp.asarray(q, dtype=float))))
+
+
+@partial(jax.jit, static_argnums=0)
+def _frames_program(robot: MobileManipulator, q: jax.Array) -> tuple:
+    poses = robot.frames(q)
+    return poses.platform, poses.mounts, poses.links

@@ -4,7 +4,7 @@ and run on physics."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -13,7 +13,6 @@ from mobman.viz.timeseries import plot_timeseries
 
 if TYPE_CHECKING:
     from mobman.dynamics.load_capacity import LoadCapacity
-    from mobman.physics.load import LoadRun
 
 
 def plot_torques(capacity: LoadCapacity, title: str | None = None) -> Figure:
@@ -38,8 +37,9 @@ def plot_torques(capacity: LoadCapacity, title: str | None = None) -> Figure:
     return plot_timeseries(capacity.t, panels, title=title, events=events)
 
 
-def plot_load_runs(runs: Sequence[LoadRun], actuator: str, title: str | None = None) -> Figure:
-    """One panel per run on physics (:mod:`mobman.physics.load`): the torque of ``actuator`` the servo asked
+def plot_load_runs(runs: Sequence[Any], actuator: str, title: str | None = None) -> Figure:
+    """One panel per run on physics (``runs``: :class:`mobman.physics.load.LoadRun`, a higher layer than the
+    figures): the torque of ``actuator`` the servo asked
     for and the one applied, against its envelope at the measured speed."""
     i = runs[0].names.index(actuator)
     panels = {
