@@ -12,6 +12,7 @@ from mobman.control.references import Line
 from mobman.control.simulation import simulate
 from mobman.errors import InputError
 from mobman.model import robots
+from mobman.model.scene import Obstacle, Scene
 from mobman.model.tasks import Position
 from mobman.physics.loop import run_on_physics
 
@@ -55,3 +56,14 @@ def test_bad_rates_are_refused():
         run_on_physics(ROBOT, LAW, SLOW, Q0, 1.0, 0.0015, task=TASK)
     with pytest.raises(InputError, match="control_dt must be"):
         run_on_physics(ROBOT, LAW, SLOW, Q0, 1.0, -0.01, task=TASK)
+
+
+def test_a_scene_s_wall_stops_the_robot_on_physics():
+    """The tool driven 1 m ahead, through a wall 0.5 m ahead of it: the wall is in MuJoCo's model (the platform
+    and the links touch it), so the run stops at it; without the scene the tool reaches the end."""
+    wall = Obstacle("wall", "box", (0.1, 2.0, 1.0), (1.25, 0.0, 0.5))
+    ahead = Line([0.707, 0.0], [1.707, 0.0], 2.0)
+    blocked = run_on_physics(ROBOT, LAW, ahead, Q0, 2.5, 0.01, task=TASK, scene=Scene((wall,)))
+    free = run_on_physics(ROBOT, LAW, ahead, Q0, 2.5, 0.01, task=TASK)
+    tool = [np.asarray(TASK.value(ROBOT, run.q[-1], ROBOT.frames(run.q[-1])))[0] for run in (blocked, free)]
+    assert tool[0] < 1.2 and tool[1] > 1.65

@@ -39,6 +39,7 @@ from mobman.errors import InputError
 from mobman.model.platforms.base import Platform
 from mobman.model.platforms.car import CarLike
 from mobman.model.robot import MobileManipulator
+from mobman.model.scene import Scene
 from mobman.model.tasks import Task
 from mobman.physics.mjcf import mujoco_module, to_mjspec
 from mobman.physics.state import measured_q, set_configuration
@@ -161,9 +162,11 @@ def run_on_physics(
     timestep: float = 1e-3,
     torque_limits: npt.ArrayLike | None = None,
     probe: Probe | None = None,
+    scene: Scene | None = None,
 ) -> PhysicsRun:
     """Run ``law`` tracking ``reference`` (of ``task``, default the robot's) from q0 for ``duration`` seconds
-    on the MuJoCo model of ``robot`` (:func:`to_mjspec` with ``friction``, ``timestep``, ``torque_limits``),
+    on the MuJoCo model of ``robot`` (:func:`to_mjspec` with ``friction``, ``timestep``, ``torque_limits``
+    and the obstacles of ``scene``, which the platform and the arm's links touch),
     the law evaluated every ``control_dt`` seconds (a multiple of ``timestep``) at the measured state."""
     mj = mujoco_module()
     kinematic = robot.robot if isinstance(robot, DynamicModel) else robot
@@ -176,7 +179,8 @@ def run_on_physics(
         raise InputError(
             f"control_dt = {control_dt!r} s must be a whole multiple of the physics step {timestep!r} s"
         )
-    model = to_mjspec(robot, torque_limits=torque_limits, friction=friction, timestep=timestep).compile()
+    spec = to_mjspec(robot, scene, torque_limits=torque_limits, friction=friction, timestep=timestep)
+    model = spec.compile()
     data = mj.MjData(model)
     set_configuration(model, data, kinematic, q0)
     commands = _Commands(model, kinematic)

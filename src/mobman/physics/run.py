@@ -139,6 +139,7 @@ def simulate_on_physics(
             timestep=settings.timestep,
             torque_limits=torque_limits,
             probe=probe,
+            scene=getattr(spec.law, "scene", None),  # the obstacles the whole-body QP law avoids
         )
     result = measured_result(spec, run)
     kinematic = spec.simulate()
