@@ -204,8 +204,7 @@ def run_on_physics(
         if k == n:
             break
         commands.apply(data, q, eta)
-        for _ in range(substeps):
-            mj.mj_step(model, data)
+        mj.mj_step(model, data, nstep=substeps)
         unstable = [w for w in UNSTABLE if data.warning[getattr(mj.mjtWarning, f"mjWARN_{w}")].number]
         if unstable:
             stopped = (
