@@ -63,8 +63,10 @@ from mobman.redundancy import sample_configurations
 from real_robots import pinocchio_model, pinocchio_q
 from timing import best_time, print_peak, roofline, xla_cost
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from coal_shapes import coal_shape  # noqa: E402  (the shapes the distance tests hold coal to)
+
 if TYPE_CHECKING:
-    import coal
     import pinocchio as pin
 
 SCENE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "tiago_scene.toml"
@@ -106,19 +108,6 @@ def configurations(robot: MobileManipulator, count: int, seed: int) -> np.ndarra
     q[:, :2] = rng.uniform(-0.25, 0.25, (count, 2))
     q[:, 2] = rng.uniform(-np.pi, np.pi, count)
     return q
-
-
-def coal_shape(shape: str, size: tuple[float, ...]) -> coal.ShapeBase:
-    """The coal shape of a mobman obstacle (a box's full extents; a capsule's length is its straight part)."""
-    import coal
-
-    if shape == "box":
-        return coal.Box(*size)
-    if shape == "sphere":
-        return coal.Sphere(size[0])
-    if shape == "cylinder":
-        return coal.Cylinder(size[0], size[1])
-    return coal.Capsule(size[0], size[1])
 
 
 def pinocchio_geometry(model: pin.Model, spheres: CollisionModel, scene: Scene) -> pin.GeometryModel:
