@@ -14,6 +14,12 @@ and NumPy's determinant for w. Both are run on the same cells and the benchmark 
 iterations in another round-off may end a start in another posture, so a cell's best w can differ. Every
 posture mobman reports is checked with Pinocchio (its tool within the tolerance of the cell's centre, its w
 equal to the map's score); the run exits with an error beyond ``AGREEMENT``. The ratio is the reference's time per cell over mobman's; no timing is asserted.
+
+Then collision-free placement: ``mobman.studies.placement.place`` for a target over the table of
+``docs/examples/tiago_scene.toml`` (table and shelf), every base × start an inverse-kinematics problem whose
+posture must be free of collision with the scene and with itself; the rate of problems per second is printed
+with and without the scene (the cost of the collision checks). cuRobo's published rate, 7,000 collision-free
+IK problems/s on a GPU, is printed beside it for scale: it is not run here (no GPU, another robot).
 """
 
 from __future__ import annotations
@@ -21,13 +27,16 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
 import mobman  # noqa: F401  (float64)
+from mobman.io import scene as scene_file
 from mobman.io.real_robots import REAL_ROBOTS
 from mobman.model import robots
 from mobman.studies.maps import reachability_map
+from mobman.studies.placement import place
 from mobman.studies.reaching import DAMPING, MAX_STEP, starting_postures
 
 from real_robots import pinocchio_model
@@ -37,6 +46,11 @@ BOUNDS = [0.2, 0.8, -0.6, 0.6, 0.4, 1.4]
 STARTS, ITERATIONS, TOLERANCE = 8, 60, 1e-4
 AGREEMENT = 1e-9
 """Largest miss (m, beyond the tolerance) and difference of w (Pinocchio's against the map's) accepted."""
+
+SCENE = Path(__file__).resolve().parents[1] / "docs" / "examples" / "tiago_scene.toml"
+PLACE_TARGET = [0.95, 0.0, 0.9]
+CUROBO_IK_PER_S = 7_000
+"""cuRobo's published collision-free IK rate on a GPU (Sundaralingam et al. 2023), for scale only."""
 
 
 def pinocchio_tool(robot):
@@ -150,10 +164,27 @@ def main(argv=None) -> int:
     print(
         f"every posture mobman reports, by Pinocchio: tool off its centre and w off its score by at most {gap:.1e}"
     )
+    placement_rates(robot, args.smoke)
     if gap > AGREEMENT:
         print(f"error: mobman and Pinocchio disagree by {gap:.1e} > {AGREEMENT:g}", file=sys.stderr)
         return 1
     return 0
+
+
+def placement_rates(robot, smoke: bool) -> None:
+    """Collision-free placement IK problems per second (module notes), with and without the scene."""
+    grid = {"bearings": 4, "headings": 4, "starts": 2} if smoke else {}
+    scene = scene_file.load(SCENE)
+    print(f"placement for {PLACE_TARGET} over {SCENE.name}'s table: problems = bases × starts")
+    print(f"{'variant':<62}{'problems':>10}{'problems/s':>14}{'reached':>9}")
+    for name, extra in (("with the scene (postures free of collision)", {"scene": scene}), ("no scene", {})):
+        result = place(robot, PLACE_TARGET, **grid, **extra)  # compiles
+        t = best_time(lambda extra=extra: place(robot, PLACE_TARGET, **grid, **extra).score, 2)
+        problems = result.bases.shape[0] * grid.get("starts", 4)
+        print(
+            f"{'mobman place, ' + name:<62}{problems:>10,}{problems / t:>14,.0f}{int(result.reached.sum()):>9}"
+        )
+    print(f"{'cuRobo, published (GPU; not run here)':<62}{'':>10}{CUROBO_IK_PER_S:>14,}")
 
 
 if __name__ == "__main__":
