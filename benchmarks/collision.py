@@ -52,7 +52,7 @@ import numpy as np
 import mobman  # noqa: F401  (float64)
 from mobman import collision
 from mobman.cli.distance import robot_collision_model
-from mobman.engine.batched import BLOCK, blocked
+from mobman.engine.batched import blocked
 from mobman.io import scene as scene_file
 from mobman.model import robots
 from mobman.model.collision_model import CONTROL_TOLERANCE, CollisionModel
@@ -243,7 +243,7 @@ def main(argv: list[str] | None = None) -> int:
     q = configurations(robot, args.n, seed=0)
     n_pairs = len(collision.pair_names(spheres, scene))
 
-    only = jax.jit(blocked(lambda x: collision.distances_one(spheres, scene, x)[0]))
+    only = jax.jit(blocked(lambda x: collision.distances_one(spheres, scene, x)[0], block=collision.BLOCK))
 
     def distances_only():
         return np.asarray(only(q))
@@ -288,7 +288,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"the reference with the rows over mobman's batched rows: {t_ref_rows / t_whole:.2f}")
     # what one block of each batched program computes and moves per configuration (XLA's count)
     print_peak()
-    block = q[: min(BLOCK, args.n)]
+    block = q[: min(collision.BLOCK, args.n)]
     for label, part, t in (("distances only", 0, t_only), ("whole PairDistances", slice(None), t_whole)):
         program = jax.vmap(lambda x, part=part: collision.distances_one(spheres, scene, x)[part])
         print(roofline(f"{label}, batched", xla_cost(program, block).per(len(block)), t))

@@ -29,11 +29,21 @@ def _kernel(x):
 
 
 @pytest.mark.parametrize(
-    "batch", [(), (1,), (5,), (batching.BLOCK,), (batching.BLOCK + 1,), (3, 2 * batching.BLOCK - 7)]
+    ("batch", "block"),
+    [
+        ((), 128),
+        ((1,), 128),
+        ((5,), 128),
+        ((128,), 128),
+        ((129,), 128),
+        ((3, 249), 128),
+        ((5,), 8),
+        ((19,), 8),
+    ],
 )
-def test_blocked_equals_vmap_for_every_batch_shape(batch):
+def test_blocked_equals_vmap_for_every_batch_shape(batch, block):
     x = np.random.default_rng(0).normal(size=batch + (3,))
-    got = jax.jit(batching.blocked(_kernel))(x)
+    got = jax.jit(batching.blocked(_kernel, block=block))(x)
     flat = x.reshape(-1, 3)
     expected = jax.tree.map(lambda a: np.asarray(a).reshape(batch + a.shape[1:]), jax.vmap(_kernel)(flat))
     for key in ("outer", "norm"):

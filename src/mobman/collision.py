@@ -223,9 +223,16 @@ def distances_one(
     )
 
 
+BLOCK = 8
+"""Configurations per block of the batched distances (:func:`mobman.engine.batched.blocked`): a
+configuration's pairs, witness points, normals and rows over η (TIAGo: about 6 kB of results and 13 MB moved
+in all) outgrow the caches in blocks of the kinematics' 128; blocks of 8 were 1.5× faster for TIAGo's
+scene and self pairs (``benchmarks/collision.py``)."""
+
+
 @partial(jax.jit, static_argnums=(0, 1))
 def _program(model: CollisionModel, scene: Scene, q: jax.Array) -> tuple:
-    return blocked(lambda x: distances_one(model, scene, x))(q)
+    return blocked(lambda x: distances_one(model, scene, x), block=BLOCK)(q)
 
 
 def distances(model: CollisionModel, scene: Scene, q: npt.ArrayLike) -> PairDistances:

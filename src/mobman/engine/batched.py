@@ -179,11 +179,12 @@ def traced(x: object) -> TypeGuard[jax.Array]:
     return isinstance(x, jax.core.Tracer)
 
 
-def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1) -> Callable:
+def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1, block: int = BLOCK) -> Callable:
     """``fn`` of one or more arrays, vectorised over their (broadcast) leading dimensions.
 
     ``core_ndims``: the number of core dimensions of each argument (one int for all). The result has the
-    broadcast leading dimensions followed by ``fn``'s output shape (any pytree of arrays).
+    broadcast leading dimensions followed by ``fn``'s output shape (any pytree of arrays). ``block``: rows per
+    block on the CPU (module notes; a kernel whose intermediates per configuration are large wants fewer).
     """
 
     def apply(*xs):
@@ -196,28 +197,28 @@ def blocked(fn: Callable, core_ndims: int | tuple[int, ...] = 1) -> Callable:
         size = math.prod(batch)
         flat = [jnp.broadcast_to(x, batch + c).reshape((size,) + c) for x, c in zip(arrays, cores)]
         kernel = jax.vmap(fn)
-        if size <= BLOCK or not on_cpu():
+        if size <= block or not on_cpu():
             out = kernel(*flat)
         else:
-            out = _in_blocks(kernel, flat, size)
+            out = _in_blocks(kernel, flat, size, block)
         return jax.tree.map(lambda a: a.reshape(batch + a.shape[1:]), out)
 
     return apply
 
 
-def _in_blocks(kernel: Callable, flat: list, size: int) -> Any:
-    """``kernel`` (vectorised) over ``size`` rows, BLOCK rows at a time, in one compiled loop. Each block is
+def _in_blocks(kernel: Callable, flat: list, size: int, block: int) -> Any:
+    """``kernel`` (vectorised) over ``size`` rows, ``block`` rows at a time, in one compiled loop. Each block is
     read in place and written into one output buffer; the last block is moved back to end at row ``size``
     (it recomputes a few rows of the previous one), so no padded copy of the inputs is made."""
-    shapes = jax.eval_shape(kernel, *(jax.ShapeDtypeStruct((BLOCK,) + f.shape[1:], f.dtype) for f in flat))
+    shapes = jax.eval_shape(kernel, *(jax.ShapeDtypeStruct((block,) + f.shape[1:], f.dtype) for f in flat))
     out = jax.tree.map(lambda s: jnp.zeros((size,) + s.shape[1:], s.dtype), shapes)
 
     def body(i, out):
-        start = jnp.minimum(i * BLOCK, size - BLOCK)
-        block = kernel(*(jax.lax.dynamic_slice_in_dim(f, start, BLOCK) for f in flat))
-        return jax.tree.map(lambda o, b: jax.lax.dynamic_update_slice_in_dim(o, b, start, 0), out, block)
+        start = jnp.minimum(i * block, size - block)
+        rows = kernel(*(jax.lax.dynamic_slice_in_dim(f, start, block) for f in flat))
+        return jax.tree.map(lambda o, b: jax.lax.dynamic_update_slice_in_dim(o, b, start, 0), out, rows)
 
-    return jax.lax.fori_loop(0, -(-size // BLOCK), body, out)
+    return jax.lax.fori_loop(0, -(-size // block), body, out)
 
 
 def across_cores(core_ndims: dict[int, int], min_share: int | None = None) -> Callable[[Callable], Callable]:
