@@ -375,6 +375,7 @@ def _on_physics(spec: LoadSpec, result: LoadCapacity) -> tuple:
 def _physics_summary(runs: tuple, result: LoadCapacity) -> dict:
     """Each run's figures, with the limiting actuator's torque at the limiting time as MuJoCo's inverse
     dynamics asked for it and as mobman predicts it (τ0 + m τ1)."""
+    assert result.limiting_time is not None  # a bounded capacity has its limiting time
     name, time = str(result.limiting_actuator), float(result.limiting_time)
     column = result.names.index(name)
     sample = int(np.argmin(np.abs(result.t - time)))

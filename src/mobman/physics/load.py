@@ -127,8 +127,9 @@ def run_with_load(
         raise InputError(
             f"actuators: unknown {sorted(unknown)}; the actuators are {', '.join(model.actuator_names)}"
         )
-    loaded = unit_payload_model(model, payload)
-    loaded = loaded.with_payload(loaded.payload.scaled(mass)) if mass > 0 else model.with_payload(None)
+    unit = unit_payload_model(model, payload).payload
+    assert unit is not None  # unit_payload_model gives the model a 1-kg payload
+    loaded = model.with_payload(unit.scaled(mass) if mass > 0 else None)
     compiled = to_mjspec(loaded, platform="prescribed", timestep=timestep).compile()
     compiled.opt.gravity[:] = loaded.gravity
     compiled.opt.disableflags |= (
