@@ -42,7 +42,7 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.scene import Scene
 from mobman.model.tasks import Task
 from mobman.physics.mjcf import mujoco_module, to_mjspec
-from mobman.physics.state import measured_q, set_configuration
+from mobman.physics.state import StateReader, set_configuration
 
 
 @dataclass
@@ -183,14 +183,14 @@ def run_on_physics(
     model = spec.compile()
     data = mj.MjData(model)
     set_configuration(model, data, kinematic, q0)
-    commands = _Commands(model, kinematic)
+    commands, reader = _Commands(model, kinematic), StateReader(model, kinematic)
     control = compiled_control(kinematic, task, law, reference)
     n = int(round(duration / control_dt))
     ts, qs, etas, rates = [], [], [], []
     sample, samples = None if probe is None else probe(model), []
     stopped = None
     for k in range(n + 1):  # t_0 … t_N = duration, as mobman.control.simulation records
-        q = measured_q(model, data, kinematic)
+        q = reader.q(data)
         eta = control(q, k * control_dt)
         if not np.all(np.isfinite(q)) or not np.all(np.isfinite(eta)):
             stopped = f"t = {k * control_dt:.6g} s: non-finite state or command"

@@ -54,18 +54,37 @@ def set_configuration(model: Any, data: Any, robot: MobileManipulator, q: npt.Ar
 
 def measured_q(model: Any, data: Any, robot: MobileManipulator) -> np.ndarray:
     """mobman's configuration q (n_q,) of the simulated state: the platform's (x, y) and its yaw θ (the
-    heading of its x axis, in (−π, π]), a car's steering angle, the arm joints."""
-    q = np.zeros(robot.n_q)
-    kind = robot.platform.kind
-    if kind == "omnidirectional":
-        q[:3] = [data.qpos[_joint_address(model, name)] for name in robot.platform.actuator_names]
-    else:
-        body = model.body("platform").id
-        rotation = data.xmat[body].reshape(3, 3)
-        q[:2] = data.xpos[body][:2]
-        q[2] = np.arctan2(rotation[1, 0], rotation[0, 0])
-    if kind == "car":
-        q[3] = data.qpos[_joint_address(model, "steering_right")]
-    for i, name in enumerate(robot.coordinate_names[robot.n_platform :], robot.n_platform):
-        q[i] = data.qpos[_joint_address(model, name)]
-    return q
+    heading of its x axis, in (−π, π]), a car's steering angle, the arm joints (:class:`StateReader`)."""
+    return StateReader(model, robot).q(data)
+
+
+class StateReader:
+    """:func:`measured_q` of one model, its joints' addresses looked up once (a control loop reads the state
+    at every step)."""
+
+    def __init__(self, model: Any, robot: MobileManipulator) -> None:
+        self.n_q, self.kind = robot.n_q, robot.platform.kind
+        self.arm = np.array(
+            [_joint_address(model, name) for name in robot.coordinate_names[robot.n_platform :]], dtype=int
+        )
+        self.platform = (
+            np.array([_joint_address(model, name) for name in robot.platform.actuator_names], dtype=int)
+            if self.kind == "omnidirectional"
+            else None
+        )
+        self.body = model.body("platform").id
+        self.steering = _joint_address(model, "steering_right") if self.kind == "car" else None
+
+    def q(self, data: Any) -> np.ndarray:
+        """The configuration q (n_q,) of ``data`` (:func:`measured_q`)."""
+        q = np.zeros(self.n_q)
+        if self.platform is not None:
+            q[:3] = data.qpos[self.platform]
+        else:
+            rotation = data.xmat[self.body]
+            q[:2] = data.xpos[self.body][:2]
+            q[2] = np.arctan2(rotation[3], rotation[0])  # R[1, 0], R[0, 0] of the row-major 3 × 3
+        if self.steering is not None:
+            q[3] = data.qpos[self.steering]
+        q[self.n_q - self.arm.size :] = data.qpos[self.arm]
+        return q
