@@ -367,9 +367,10 @@ def _on_physics(spec: LoadSpec, result: LoadCapacity) -> tuple:
     """The motion run on MuJoCo with :data:`mobman.physics.load.FRACTIONS` of the capacity."""
     from mobman.physics.load import check_capacity
 
-    if not result.bounded:
-        raise InputError("--physics: the capacity is unbounded (no limited actuator depends on the load)")
-    return check_capacity(spec.model, spec.t, spec.q, spec.actuators, result)
+    try:
+        return check_capacity(spec.model, spec.t, spec.q, spec.actuators, result)
+    except InputError as exc:
+        raise InputError(f"--physics: {exc}") from None
 
 
 def _physics_summary(runs: tuple, result: LoadCapacity) -> dict:

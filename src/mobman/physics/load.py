@@ -145,11 +145,11 @@ def run_with_load(
     names = model.actuator_names[-n_a:]
     coefficients = envelope_coefficients([actuators.get(name) for name in names])
     omega = 2 * math.pi * bandwidth
-    record = {key: np.empty((steps.size, robot.n_q if key.startswith("q") else n_a)) for key in _SERIES}
-    data.qpos[:], data.qvel[:] = path(steps[0]), path(steps[0], 1)
-    for k, time in enumerate(steps):
-        q_d, q_dot_d, q_ddot_d = path(time), path(time, 1), path(time, 2)
-        record["q"][k], record["q_desired"][k] = data.qpos, q_d
+    record = {key: np.empty((steps.size, robot.n_q if key == "q" else n_a)) for key in _SERIES}
+    desired, rates, accelerations = (path(steps, order) for order in (0, 1, 2))  # q_d, q̇_d, q̈_d at every step
+    data.qpos[:], data.qvel[:] = desired[0], rates[0]
+    for k, (q_d, q_dot_d, q_ddot_d) in enumerate(zip(desired, rates, accelerations)):
+        record["q"][k] = data.qpos
         data.qacc[:] = q_ddot_d + 2 * omega * (q_dot_d - data.qvel) + omega**2 * (q_d - data.qpos)
         mj.mj_inverse(compiled, data)
         required = data.qfrc_inverse.copy()
@@ -163,7 +163,7 @@ def run_with_load(
         data.qfrc_applied[:] = applied
         mj.mj_step(compiled, data)
     saturated = (record["required"] < record["lower"]) | (record["required"] > record["upper"])
-    return LoadRun(float(mass), tuple(names), steps, saturated=saturated, **record)
+    return LoadRun(float(mass), tuple(names), steps, q_desired=desired, saturated=saturated, **record)
 
 
 FRACTIONS = (0.9, 1.2)
@@ -191,8 +191,9 @@ def check_capacity(
     )
 
 
-_SERIES = ("q", "q_desired", "required", "applied", "lower", "upper")
-"""The series :func:`run_with_load` records: configurations (n_q columns), then per arm actuator (n_a)."""
+_SERIES = ("q", "required", "applied", "lower", "upper")
+"""The series :func:`run_with_load` records step by step: the configuration (n_q columns), then per arm
+actuator (n_a)."""
 
 
 __all__ = ["BANDWIDTH", "FRACTIONS", "LoadRun", "check_capacity", "run_with_load"]

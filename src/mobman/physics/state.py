@@ -63,17 +63,17 @@ class StateReader:
     at every step)."""
 
     def __init__(self, model: Any, robot: MobileManipulator) -> None:
-        self.n_q, self.kind = robot.n_q, robot.platform.kind
+        self.n_q, kind = robot.n_q, robot.platform.kind
         self.arm = np.array(
             [_joint_address(model, name) for name in robot.coordinate_names[robot.n_platform :]], dtype=int
         )
         self.platform = (
             np.array([_joint_address(model, name) for name in robot.platform.actuator_names], dtype=int)
-            if self.kind == "omnidirectional"
+            if kind == "omnidirectional"
             else None
         )
         self.body = model.body("platform").id
-        self.steering = _joint_address(model, "steering_right") if self.kind == "car" else None
+        self.steering = _joint_address(model, "steering_right") if kind == "car" else None
 
     def q(self, data: Any) -> np.ndarray:
         """The configuration q (n_q,) of ``data`` (:func:`measured_q`)."""
