@@ -86,3 +86,13 @@ def test_the_command_line_runs_the_check_and_writes_its_figure(tmp_path, capsys)
         main(["load-capacity", spec, "--physics", "bullet"])
     assert exc.value.code == 2
     assert "--physics must be mujoco" in capsys.readouterr().err
+
+
+def test_a_prediction_that_does_not_hold_on_physics_exits_3_and_says_which_run(monkeypatch, capsys):
+    from mobman.physics import load as physics_load
+
+    monkeypatch.setattr(physics_load, "FRACTIONS", (0.9, 0.95))  # 95 % of the capacity cannot saturate
+    with pytest.raises(SystemExit) as exc:
+        main(["load-capacity", str(EXAMPLES / "korayem_load.toml"), "--physics", "mujoco", "--json"])
+    assert exc.value.code == 3
+    assert "on MuJoCo 95% of the capacity never saturated" in capsys.readouterr().err
