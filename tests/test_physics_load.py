@@ -27,7 +27,7 @@ def _predicted(name: str):
     return spec, max_load(spec.model, spec.t, spec.q, spec.eta, eta_dot, spec.actuators)
 
 
-@pytest.mark.parametrize("name", ["korayem_load.toml", "tiago_load.toml"])
+@pytest.mark.parametrize("name", ["korayem_load.toml", "tiago_load.toml", "yamamoto_load.toml"])
 def test_below_the_capacity_the_arm_tracks_inside_its_envelopes_and_above_it_saturates(name):
     spec, capacity = _predicted(name)
     below, above = check_capacity(spec.model, spec.t, spec.q, spec.actuators, capacity)
@@ -45,6 +45,15 @@ def test_below_the_capacity_the_arm_tracks_inside_its_envelopes_and_above_it_sat
     column = capacity.names.index(capacity.limiting_actuator)
     predicted = capacity.torques(below.mass)[sample, column]
     assert below.required[step, limiting] == pytest.approx(predicted, rel=5e-3)
+
+
+def test_the_yamamoto_example_holds_the_paper_s_inertials():
+    from mobman import dynamics as dyn
+
+    spec = load(EXAMPLES / "yamamoto_load.toml")
+    paper = dyn.yamamoto_model(payload=spec.model.payload)
+    q = np.random.default_rng(3).uniform(-np.pi, np.pi, (16, paper.robot.n_q))
+    assert np.allclose(dyn.reduced_mass_matrix(spec.model, q), dyn.reduced_mass_matrix(paper, q), atol=1e-12)
 
 
 def test_mujoco_s_torques_follow_mobman_s_along_a_smooth_motion():
