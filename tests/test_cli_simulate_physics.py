@@ -115,6 +115,20 @@ def test_tiago_qp_slow_on_high_friction_ends_at_the_kinematic_end_point(tmp_path
     robot = spec.load(path).robot
     wheels_and_joints = ["wheel_right", "wheel_left", *robot.coordinate_names[robot.n_platform :]]
     assert results["physics"]["actuators"] == wheels_and_joints
+    # the reduced dynamics' B⁻¹ b(q, η) fed forward: the servos no longer lag under the arm's weight
+    fed = tmp_path / "fed"
+    fed.mkdir()
+    code, with_ff, _, _ = _physics(
+        fed, _tiago() + "feedforward = true\n", capsys, "--physics", "mujoco", "--tolerance", "0.05"
+    )
+    assert code == 0
+    deviation = [r["metrics"]["kinematic_deviation_max"] for r in (results, with_ff)]
+    assert deviation[1] < 0.25 * deviation[0]
+    # the torques recorded are the actuators' (servo and feed-forward): at the end, at rest, the same weight
+    torque = [np.asarray(r["series"]["physics"]["torque"])[-1] for r in (results, with_ff)]
+    torso = wheels_and_joints.index("torso_lift_joint")
+    assert abs(torque[0][torso]) > 50.0
+    assert torque[1][torso] == pytest.approx(torque[0][torso], rel=0.02)
 
 
 def test_a_fast_run_on_a_slippery_floor_slips(tmp_path, capsys):
@@ -133,6 +147,8 @@ def test_a_fast_run_on_a_slippery_floor_slips(tmp_path, capsys):
         ('engine = "bullet"', "physics.engine"),
         ('engine = "mujoco"\nfriction = 0.0', "physics.friction"),
         ('engine = "mujoco"\npayload = -1.0', "physics.payload"),
+        ('engine = "mujoco"\nfeedforward = 1', "physics.feedforward"),
+        ('engine = "mujoco"\nfeedforward = true', "physics.feedforward"),  # stand-in inertials
     ],
 )
 def test_bad_physics_settings_are_one_line_and_exit_2(tmp_path, capsys, physics, field):

@@ -15,6 +15,7 @@ from mobman.model import robots
 from mobman.model.scene import Obstacle, Scene
 from mobman.model.tasks import Position
 from mobman.physics.loop import run_on_physics
+from mobman.physics.mjcf import dynamic_model
 
 ROBOT = robots.build("bayle-planar")
 TASK = Position("xy")
@@ -56,6 +57,14 @@ def test_bad_rates_are_refused():
         run_on_physics(ROBOT, LAW, SLOW, Q0, 1.0, 0.0015, task=TASK)
     with pytest.raises(InputError, match="control_dt must be"):
         run_on_physics(ROBOT, LAW, SLOW, Q0, 1.0, -0.01, task=TASK)
+
+
+def test_feedforward_needs_inertials_and_joint_actuators():
+    with pytest.raises(InputError, match="feedforward: needs the robot's inertials"):
+        run_on_physics(ROBOT, LAW, SLOW, Q0, 1.0, 0.01, task=TASK, feedforward=True)
+    car = dynamic_model(robots.build("tchon-car-rtr"))  # stand-in inertials; its wheels are not its actuators
+    with pytest.raises(InputError, match="the car platform's .* are not"):
+        run_on_physics(car, LAW, SLOW, np.zeros(car.robot.n_q), 1.0, 0.01, task=TASK, feedforward=True)
 
 
 def test_a_scene_s_wall_stops_the_robot_on_physics():

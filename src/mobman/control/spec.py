@@ -49,6 +49,7 @@ timestep = 0.001                 # s, the physics step
 control_rate = 100.0             # Hz, the law's rate (default 1 / dt); its period a multiple of timestep
 friction = 1.0                   # the wheels' sliding friction on the floor
 payload = 0.0                    # kg held at the first arm's tool
+feedforward = false              # true: the reduced dynamics' B⁻¹ b(q, η) added to the servos (inertials needed)
 ```
 
 A ``[scene]`` table (``[[scene.obstacle]]`` tables and ``floor``, the form of a scene file:
@@ -106,13 +107,15 @@ class PhysicsSettings:
     kinematic integration. ``engine`` (one of :data:`ENGINES`; None: the table only sets the numbers, the
     command line's ``--physics`` picks the engine), ``timestep`` the physics step h (s), ``control_rate`` the
     law's rate 1/h_c (Hz; h_c a whole multiple of h), ``friction`` the wheels' sliding friction on the floor,
-    ``payload`` a mass (kg) held at the first arm's tool."""
+    ``payload`` a mass (kg) held at the first arm's tool, ``feedforward`` the reduced dynamics' torques
+    B⁻¹ b(q, η) added to the servos (:func:`mobman.physics.run_on_physics`)."""
 
     engine: str | None = None
     timestep: float = 1e-3
     control_rate: float = 100.0
     friction: float = 1.0
     payload: float = 0.0
+    feedforward: bool = False
 
     @property
     def substeps(self) -> int:
@@ -124,7 +127,10 @@ def physics_settings(table: dict, dt: float, field: str = "physics") -> PhysicsS
     """The :class:`PhysicsSettings` of a ``[physics]`` table (``control_rate`` by default 1 / the spec's
     ``dt``); InputError naming the field: an unknown engine, a non-positive step, rate or friction, a
     negative payload, a control period that is not a whole multiple of the physics step."""
-    fields.keys(table, field, ("engine", "timestep", "control_rate", "friction", "payload"))
+    fields.keys(table, field, ("engine", "timestep", "control_rate", "friction", "payload", "feedforward"))
+    feedforward = table.get("feedforward", False)
+    if not isinstance(feedforward, bool):
+        raise InputError(f"{field}.feedforward: must be true or false, got {feedforward!r}")
     engine = fields.text(table, "engine", field, allowed=ENGINES)
     settings = PhysicsSettings(
         engine,
@@ -132,6 +138,7 @@ def physics_settings(table: dict, dt: float, field: str = "physics") -> PhysicsS
         fields.number(table, "control_rate", field, 1.0 / dt, positive=True),
         fields.number(table, "friction", field, 1.0, positive=True),
         fields.number(table, "payload", field, 0.0),
+        feedforward,
     )
     if settings.payload < 0:
         raise InputError(f"{field}.payload: a mass ≥ 0 kg, got {settings.payload!r}")

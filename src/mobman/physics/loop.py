@@ -13,6 +13,13 @@ the other laws of :mod:`mobman.control.laws`) at the configuration q that MuJoCo
 - an omnidirectional platform: η_p = (ẋ, ẏ, θ̇) to its slide and hinge servos;
 - the arm joints: q̇_a to their integrated-velocity servos.
 
+With ``feedforward`` (a robot with its inertials, a :class:`~mobman.dynamics.DynamicModel`), each actuator
+also gets the torque mobman's reduced dynamics asks for the commanded motion held at that velocity,
+τ_ff = B(q)⁻¹ b(q, η) (the gravity and velocity-product terms of Yamamoto & Yun eq. 15–16 with η̇ = 0; a held
+command has no acceleration to feed), applied as a generalized force on the actuator's joint; the servo makes
+up the rest, its force range narrowed each period to [−τ_max − τ_ff, τ_max − τ_ff] so that the sum keeps the
+actuator's torque limit.
+
 MuJoCo then takes h_c / h steps of its own (``model.opt.timestep`` h; h_c must be a multiple of it). The
 record holds, per control instant, the measured q, the commanded η and the platform's nonholonomic constraint
 violation G(q_p) q̇_p measured on the simulated velocities (m/s: the wheels' lateral slip for a differential
@@ -38,7 +45,7 @@ from mobman.dynamics.inertia import DynamicModel
 from mobman.errors import InputError
 from mobman.model.platforms.base import Platform
 from mobman.model.platforms.car import CarLike
-from mobman.model.robot import MobileManipulator
+from mobman.model.robot import MobileManipulator, actuator_names
 from mobman.model.scene import Scene
 from mobman.model.tasks import Task
 from mobman.physics.mjcf import mujoco_module, to_mjspec
@@ -115,6 +122,52 @@ def _slip(platform: Platform, q_p: jax.Array, rates: jax.Array) -> jax.Array:
     return jax.vmap(lambda qi, ri: platform.constraints(qi) @ ri)(q_p, rates)
 
 
+class _FeedForward:
+    """τ_ff = B(q)⁻¹ b(q, η) of a :class:`DynamicModel` for each actuator of its MuJoCo model (module
+    docstring): one compiled program per model, its torques written as generalized forces on the actuators'
+    joints, and the servos' force ranges narrowed by them."""
+
+    def __init__(self, model: Any, dynamics: DynamicModel) -> None:
+        mj = mujoco_module()
+        names = actuator_names(dynamics.robot)
+        ids = [model.actuator(name).id if _has_actuator(model, name) else -1 for name in names]
+        joint = int(mj.mjtTrn.mjTRN_JOINT)
+        unsupported = [n for n, i in zip(names, ids) if i < 0 or int(model.actuator_trntype[i]) != joint]
+        if unsupported:
+            raise InputError(
+                f"feedforward: needs one joint actuator per actuator of the dynamic model; the "
+                f"{dynamics.robot.platform.kind} platform's {', '.join(unsupported)} are not (differential "
+                f"drive, omnidirectional and fixed platforms have them)"
+            )
+        self.model, self.ids = model, np.array(ids, dtype=int)
+        self.dofs = np.array([model.jnt_dofadr[model.actuator_trnid[i, 0]] for i in ids], dtype=int)
+        self.limited = model.actuator_forcelimited[self.ids].astype(bool)
+        self.range = np.array(model.actuator_forcerange[self.ids])
+        self.torque = _feedforward_program(dynamics)
+
+    def apply(self, data: Any, q: np.ndarray, eta: np.ndarray) -> None:
+        tau = np.asarray(self.torque(q, eta))
+        tau = np.where(self.limited, np.clip(tau, self.range[:, 0], self.range[:, 1]), tau)
+        data.qfrc_applied[self.dofs] = tau
+        limited = self.ids[self.limited]
+        self.model.actuator_forcerange[limited] = self.range[self.limited] - tau[self.limited, None]
+
+
+def _has_actuator(model: Any, name: str) -> bool:
+    try:
+        model.actuator(name)
+    except KeyError:
+        return False
+    return True
+
+
+@lru_cache(maxsize=8)
+def _feedforward_program(dynamics: DynamicModel) -> Callable[[np.ndarray, np.ndarray], jax.Array]:
+    from mobman.dynamics.reduced import inverse_dynamics_one
+
+    return jax.jit(lambda q, eta: inverse_dynamics_one(dynamics, q, eta, jnp.zeros_like(eta)))
+
+
 class _Commands:
     """Writes η into ``data.ctrl`` for the actuators of a model built by :func:`to_mjspec`."""
 
@@ -163,11 +216,14 @@ def run_on_physics(
     torque_limits: npt.ArrayLike | None = None,
     probe: Probe | None = None,
     scene: Scene | None = None,
+    feedforward: bool = False,
 ) -> PhysicsRun:
     """Run ``law`` tracking ``reference`` (of ``task``, default the robot's) from q0 for ``duration`` seconds
     on the MuJoCo model of ``robot`` (:func:`to_mjspec` with ``friction``, ``timestep``, ``torque_limits``
     and the obstacles of ``scene``, which the platform and the arm's links touch),
-    the law evaluated every ``control_dt`` seconds (a multiple of ``timestep``) at the measured state."""
+    the law evaluated every ``control_dt`` seconds (a multiple of ``timestep``) at the measured state; with
+    ``feedforward`` (``robot`` a :class:`DynamicModel`), the reduced dynamics' τ_ff = B⁻¹ b(q, η) added to
+    the servos (module docstring)."""
     mj = mujoco_module()
     kinematic = robot.robot if isinstance(robot, DynamicModel) else robot
     task = kinematic.task if task is None else task
@@ -179,11 +235,17 @@ def run_on_physics(
         raise InputError(
             f"control_dt = {control_dt!r} s must be a whole multiple of the physics step {timestep!r} s"
         )
+    if feedforward and not isinstance(robot, DynamicModel):
+        raise InputError(
+            "feedforward: needs the robot's inertials (a DynamicModel: a real robot, a URDF file with "
+            "inertials, yamamoto-dual-arm), got a MobileManipulator without them"
+        )
     spec = to_mjspec(robot, scene, torque_limits=torque_limits, friction=friction, timestep=timestep)
     model = spec.compile()
     data = mj.MjData(model)
     set_configuration(model, data, kinematic, q0)
     commands, reader = _Commands(model, kinematic), StateReader(model, kinematic)
+    feed = _FeedForward(model, robot) if feedforward and isinstance(robot, DynamicModel) else None
     control = compiled_control(kinematic, task, law, reference)
     n = int(round(duration / control_dt))
     ts, qs, etas, rates = [], [], [], []
@@ -204,6 +266,8 @@ def run_on_physics(
         if k == n:
             break
         commands.apply(data, q, eta)
+        if feed is not None:
+            feed.apply(data, q, eta)
         mj.mj_step(model, data, nstep=substeps)
         unstable = [w for w in UNSTABLE if data.warning[getattr(mj.mjtWarning, f"mjWARN_{w}")].number]
         if unstable:

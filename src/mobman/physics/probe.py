@@ -10,8 +10,9 @@
   constraint, which the run records for the whole platform as G(q_p) q̇_p);
 - ``contact_normal``, ``contact_tangential`` (per wheel, N): the normal force of the floor (and of obstacles)
   on the wheel and the magnitude of the friction force (``mj_contactForce``, summed over its contacts);
-- ``torque`` (per actuator, N·m or N): the force each servo applies (``actuator_force``), and ``at_limit``
-  whether it is held at its torque limit (``forcerange``).
+- ``torque`` (per actuator, N·m or N): the force each servo applies (``actuator_force``) plus the run's
+  feed-forward on the actuator's joint (``qfrc_applied``, 0 without one), and ``at_limit`` whether it is held at
+  its torque limit (the ``forcerange`` the model was built with).
 
 The wheels are the bodies with a ``<name>_contact`` sphere (the export's wheels; casters are not wheels).
 """
@@ -39,6 +40,8 @@ def wheel_probe(model: Any) -> Callable[[Any], dict[str, np.ndarray]]:
     wheel_of = {g: i for i, g in enumerate(contacts)}
     limited = model.actuator_forcelimited.astype(bool)
     limits = np.where(limited, np.abs(model.actuator_forcerange[:, 1]), np.inf)
+    on_joint = model.actuator_trntype == int(mj.mjtTrn.mjTRN_JOINT)
+    dofs = model.jnt_dofadr[np.where(on_joint, model.actuator_trnid[:, 0], 0)]
     z = np.array([0.0, 0.0, 1.0])
     velocity, force = np.zeros(6), np.zeros(6)
 
@@ -58,7 +61,7 @@ def wheel_probe(model: Any) -> Callable[[Any], dict[str, np.ndarray]]:
                 mj.mj_contactForce(model, data, c, force)
                 normal[wheel] += force[0]
                 tangential[wheel] += np.hypot(force[1], force[2])
-        torque = np.array(data.actuator_force)
+        torque = data.actuator_force + np.where(on_joint, data.qfrc_applied[dofs], 0.0)
         return {
             "slip_longitudinal": slip,
             "contact_normal": normal,

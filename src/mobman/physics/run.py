@@ -34,6 +34,7 @@ from mobman.control.references import Reference
 from mobman.control.simulation import SimulationResult, compute_measures
 from mobman.control.spec import PhysicsSettings, Spec
 from mobman.dynamics.inertia import DynamicModel
+from mobman.errors import InputError
 from mobman.model.inertial import Payload
 from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import Task
@@ -116,6 +117,11 @@ def simulate_on_physics(
     """Run ``spec`` on MuJoCo with ``settings`` (the robot's inertials from ``model``: a
     :class:`DynamicModel`, or the robot itself for stand-ins, :func:`mobman.physics.mjcf.dynamic_model`;
     ``torque_limits`` per actuator) and compare it with the spec's kinematic run."""
+    if settings.feedforward and not isinstance(model, DynamicModel):
+        raise InputError(
+            f"physics.feedforward: needs the robot's inertials; {model.name} has none in mobman (a real robot, "
+            f"a URDF file with inertials or yamamoto-dual-arm has them)"
+        )
     dynamics = dynamic_model(model)
     if settings.payload > 0:
         dynamics = dynamics.with_payload(Payload(settings.payload))
@@ -140,6 +146,7 @@ def simulate_on_physics(
             torque_limits=torque_limits,
             probe=probe,
             scene=getattr(spec.law, "scene", None),  # the obstacles the whole-body QP law avoids
+            feedforward=settings.feedforward,
         )
     result = measured_result(spec, run)
     kinematic = spec.simulate()
