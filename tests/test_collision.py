@@ -4,6 +4,7 @@ distance-rate rows over η against finite differences along q(t) = q + t S(q) η
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import coal
 import jax
@@ -13,11 +14,15 @@ import pytest
 from coal_shapes import coal_distance, coal_shape
 
 from mobman import collision
+from mobman.errors import ModelError
 from mobman.model import robots
 from mobman.model.collision_model import CollisionModel, CollisionSphere
 from mobman.model.platforms import DifferentialDrive, Omnidirectional
-from mobman.model.robot import MobileManipulator
+from mobman.model import spatial
+from mobman.model.arm import Joint
+from mobman.model.robot import Follower, MobileManipulator
 from mobman.model.scene import Obstacle, Scene
+from mobman.model.visual import Visual
 
 # --- a small robot: the planar 2R arm on a platform, a few spheres ----------------------------------
 
@@ -27,6 +32,16 @@ def _robot(platform=None) -> MobileManipulator:
     return base if platform is None else MobileManipulator(platform, base.arms, base.mounts, name="omni")
 
 
+def _with_followers() -> MobileManipulator:
+    """bayle-planar with two followers: a mast on the platform rising at half the shoulder angle (m/rad), and
+    a flap on the upper link turning at −1.3 times the elbow, hung from the mast's side."""
+    base = _robot()
+    turned = spatial.as_matrix(spatial.transform(spatial.rot_x(0.4), (0.1, 0.05, 0.02)))
+    mast = Follower(Joint("prismatic", (0.0, 0.0, 1.0), name="mast", offset=0.1), (-1, 0), 3, 0.5)
+    flap = Follower(Joint("revolute", (0.0, 1.0, 0.0), tuple(turned.ravel()), name="flap"), (0, 0), 4, -1.3)
+    return replace(base, followers=(mast, flap))
+
+
 def _model(robot: MobileManipulator) -> CollisionModel:
     spheres = (
         CollisionSphere((-1, 0), (0.0, 0.0, -0.05), 0.3, "body"),
@@ -34,6 +49,9 @@ def _model(robot: MobileManipulator) -> CollisionModel:
         CollisionSphere((0, 0), (0.25, 0.0, 0.0), 0.06, "upper"),
         CollisionSphere((0, 1), (0.2, 0.0, 0.0), 0.05, "fore"),
         CollisionSphere((0, 1), (0.45, 0.05, 0.02), 0.04, "hand"),
+    )
+    spheres += tuple(
+        CollisionSphere((-2, k), (0.1, -0.05, 0.2), 0.07, f.joint.name) for k, f in enumerate(robot.followers)
     )
     return CollisionModel(robot, spheres, ((0, 2),), 0.0)
 
@@ -104,9 +122,8 @@ def _motion(robot: MobileManipulator, q: np.ndarray, eta: np.ndarray, t: float) 
     return q + t * np.asarray(robot.S(jnp.asarray(q))) @ eta
 
 
-@pytest.mark.parametrize("platform", [None, Omnidirectional()])
-def test_rows_match_finite_differences_and_autodiff(platform):
-    robot = _robot(platform)
+@pytest.mark.parametrize("robot", [_robot(), _robot(Omnidirectional()), _with_followers()])
+def test_rows_match_finite_differences_and_autodiff(robot):
     model = _model(robot)
     rng = np.random.default_rng(11)
     q = rng.uniform(-math.pi, math.pi, robot.n_q)
@@ -157,3 +174,24 @@ def test_bad_configuration_is_one_line():
     robot = _robot()
     with pytest.raises(InputError, match="configuration"):
         collision.distances(_model(robot), SCENE, [0.0, float("nan"), 0.0, 0.0])
+
+
+def test_a_follower_is_a_body_of_the_collision_model_next_to_its_parent():
+    robot = _with_followers()
+    shapes = {(-2, 0): (Visual("box", size=(0.1, 0.1, 0.1)),), (0, 1): (Visual("sphere", size=(0.05,)),)}
+    model = CollisionModel.from_shapes(robot, shapes)
+    names = [model.body_name(b) for b in model.bodies]
+    assert names[-2:] == ["mast", "flap"]
+    index = {b: i for i, b in enumerate(model.bodies)}
+    assert (index[(-1, 0)], index[(-2, 0)]) not in model.pairs  # the mast and the platform: neighbours
+
+
+def test_bad_followers_are_one_line():
+    base = _robot()
+    lift = Joint("prismatic", name="lift")
+    with pytest.raises(ModelError, match="follower 'lift' leads from q\\[1\\], not an arm coordinate"):
+        replace(base, followers=(Follower(lift, (-1, 0), 1),))
+    with pytest.raises(ModelError, match="follower 'lift' hangs from \\(0, 5\\)"):
+        replace(base, followers=(Follower(lift, (0, 5), 3),))
+    with pytest.raises(ModelError, match="multiplier must be finite"):
+        Follower(lift, (-1, 0), 3, math.nan)

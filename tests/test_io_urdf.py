@@ -534,17 +534,65 @@ def _translation(x: float, y: float, z: float) -> np.ndarray:
     return t
 
 
-def test_a_mimic_joint_of_an_arm_coordinate_is_said_or_refused(tmp_path):
+def test_a_mimic_joint_of_an_arm_coordinate_off_the_chain_follows_it_as_pinocchio_does(tmp_path):
+    """The torso (and the head hanging from it) rise with the arm lift at half its travel: a Follower body,
+    whose frame agrees with Pinocchio's mimic joint at random configurations, limits included."""
+    import pinocchio
+
     path = tmp_path / "mimic.urdf"
     path.write_text(MIMIC)
-    with pytest.warns(UrdfWarning, match="'torso_lift_joint' mimics 'arm_lift_joint'.*held at 0.01"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing is held that should follow: no note
         model = read_urdf(path, tip="hand", base="base_link")
-    assert model.summary.mimics == (("torso_lift_joint", "arm_lift_joint", 0.01),)
-    assert "torso_lift_joint" not in model.summary.passive
+    assert model.summary.mimics == () and "torso_lift_joint" not in model.summary.passive
+    assert model.summary.followers == (("torso_lift_joint", "arm_lift_joint", 0.5, pytest.approx(0.01)),)
+    assert "torso_lift_joint = 0.5 · arm_lift_joint + 0.01" in str(model.summary)
+    robot = model.robot
+    (follower,) = robot.followers
+    assert (follower.leader, follower.multiplier, follower.parent) == (3, 0.5, (-1, 0))
+    pin_model = pinocchio.buildModelFromUrdf(str(path), mimic=True)
+    data = pin_model.createData()
+    q = _configurations(32, robot.n_q, 4)
+    q[:, 3] = np.random.default_rng(5).uniform(0.0, 0.5, 32)
+    q[:2, 3] = [0.0, 0.5]  # the lift at its limits
+    followers = K.frames(robot, q).followers[0]
+    for k, qk in enumerate(q):
+        v = np.zeros(pin_model.nq)
+        for name, value in [("arm_lift_joint", qk[3]), ("wrist_joint", qk[4])]:
+            v[pin_model.idx_qs[pin_model.getJointId(name)]] = value
+        pinocchio.framesForwardKinematics(pin_model, data, v)
+        expected = _platform_pose(qk[:3]) @ _translation(-0.05, 0.0, 0.1)
+        expected = expected @ data.oMf[pin_model.getFrameId("torso_link")].homogeneous
+        np.testing.assert_allclose(np.asarray(followers[1][k]), expected[:3, 3], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(np.asarray(followers[0][k]), expected[:3, :3], rtol=0, atol=1e-12)
+
+
+def test_a_mimic_joint_of_an_arm_coordinate_on_a_chain_is_refused(tmp_path):
+    path = tmp_path / "mimic.urdf"
+    path.write_text(MIMIC)
     with pytest.raises(
         ModelError, match="'torso_lift_joint' on the chain to 'head' mimics 'arm_lift_joint'.*lock"
     ):
         read_urdf(path, tip=["hand", "head"], base="base_link")
+
+
+def test_a_follower_is_written_back_as_a_mimic_joint(tmp_path):
+    path = tmp_path / "mimic.urdf"
+    path.write_text(MIMIC.replace('<link name="head"/>', HEAD))
+    robot = read_urdf(path, tip="hand", base="base_link").robot
+    written = write_urdf(robot, tmp_path / "written.urdf")
+    again = read_urdf(written, tip=urdf_tips(robot), base="base_footprint").robot
+    assert again.followers[0].multiplier == 0.5 and again.followers[0].leader == 3
+    assert len(again.followers[0].joint.visuals) == 1
+    q = _configurations(8, robot.n_q, 6)
+    ours, theirs = K.frames(robot, q).followers[0], K.frames(again, q).followers[0]
+    np.testing.assert_allclose(np.asarray(theirs[1]), np.asarray(ours[1]), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.asarray(theirs[0]), np.asarray(ours[0]), rtol=0, atol=1e-12)
+
+
+HEAD = """<link name="head"><visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual>
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>"""
+"""A head of 20 cm on MIMIC's torso (visual and collision box)."""
 
 
 # --- files that lie: one line naming the file and what is wrong ---------------------------------------
@@ -670,3 +718,26 @@ def test_a_file_changed_after_a_reading_is_read_again(tmp_path):
     assert read_urdf(path, **options).robot.arms[0].joints[0].upper == 0.5
     path.write_text(path.read_text().replace('upper="0.5" velocity="0.1"', 'upper="0.25" velocity="0.1"'))
     assert read_urdf(path, **options).robot.arms[0].joints[0].upper == 0.25
+
+
+def test_a_follower_s_collision_shapes_rise_with_its_leader(tmp_path):
+    """The head box on MIMIC's torso, under a ceiling: lifting the arm by 0.2 m raises the head by 0.1 m, so the
+    head's distance to the ceiling falls by 0.1 m, and its distance rate is half the lift's."""
+    from mobman import collision
+    from mobman.io.urdf import collision_shapes
+    from mobman.model.collision_model import CollisionModel
+    from mobman.model.scene import Obstacle, Scene
+
+    path = tmp_path / "mimic.urdf"
+    path.write_text(MIMIC.replace('<link name="head"/>', HEAD))
+    model = read_urdf(path, tip="hand", base="base_link")
+    shapes = collision_shapes(model)
+    assert [s.kind for s in shapes[(-2, 0)]] == ["box"]
+    cover = CollisionModel.from_shapes(model.robot, {(-2, 0): shapes[(-2, 0)]}, tolerance=0.01)
+    ceiling = Scene((Obstacle("ceiling", "box", (4.0, 4.0, 0.1), (0.0, 0.0, 1.5)),))
+    q = np.array([[0.0, 0.0, 0.0, 0.1, 0.0], [0.0, 0.0, 0.0, 0.3, 0.0]])
+    out = collision.distances(cover, ceiling, q)
+    low, high = out.distance.min(axis=1)
+    assert low - high == pytest.approx(0.1, abs=1e-9)
+    closest = int(np.argmin(out.distance[1]))
+    np.testing.assert_allclose(out.rows[1, closest, 2], -0.5, atol=1e-9)  # ḋ = −½ q̇_lift (η: v, ω, lift, wrist)

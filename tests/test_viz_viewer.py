@@ -477,3 +477,20 @@ def test_the_clearance_colour_goes_from_red_at_contact_to_green_far_away():
     assert viewer_module.clearance_color(5.0) == tuple(far)
     halfway = viewer_module.clearance_color(viewer_module.CLEARANCE_FAR / 2)
     np.testing.assert_allclose(halfway, (near + far) / 2, atol=0.5)
+
+
+def test_a_follower_s_shapes_move_with_its_leader():
+    """A mast on bayle-rrp's platform rising at half q6 (a URDF mimic joint off the chain): drawn with its box
+    at the platform's position plus 0.2 + q6 / 2 m up."""
+    from mobman.model.arm import Joint
+    from mobman.model.robot import Follower
+
+    box = Visual("box", size=(0.1, 0.1, 0.4), name="pole")
+    mast = Joint("prismatic", (0.0, 0.0, 1.0), offset=0.2, name="mast", visuals=(box,))
+    robot = dataclasses.replace(robots.bayle_rrp(), followers=(Follower(mast, (-1, 0), 5, 0.5),))
+    with Viewer(robot, port=0) as v:
+        assert "/robot/followers/mast/pole" in v.nodes
+        for q in Q[[0, -1]]:
+            v.show(q)
+            expected = [q[0], q[1], 0.2 + q[5] / 2]
+            np.testing.assert_allclose(v.nodes["/robot/followers/mast"].position, expected, atol=1e-12)

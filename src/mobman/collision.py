@@ -20,7 +20,7 @@ normal ∇φ_O(c) pointing from the obstacle toward the sphere (from sphere j to
 Rates over η
 ------------
 ḋ = n̂ᵀ ċ (n̂ᵀ (ċ_i − ċ_j) for a self pair), and ċ = J_c(q) q̇ = J_c(q) S(q) η with J_c the linear velocity
-Jacobian of the sphere's centre (:meth:`~mobman.model.robot.MobileManipulator.point_jacobian`). The row
+Jacobian of the sphere's centre (:meth:`~mobman.model.robot.MobileManipulator.body_point_jacobian`). The row
 n̂ᵀ J_c S = n̂ᵀ J̄_c over the quasi-velocities η has the platform's nonholonomic constraint built in: its
 entries are the rates along the admissible motions only (a differential drive cannot slide sideways away from a
 wall). Where φ is not differentiable (a centre equidistant from two faces, or at a sphere's centre) the row is
@@ -135,28 +135,30 @@ def centres_one(model: CollisionModel, q: jnp.ndarray) -> jnp.ndarray:
     """World centres (n_spheres, 3) of the model's spheres at one configuration q (n_q,)."""
     layout = _layout(model, Scene())
     frames = model.robot.frames(q)
+    followers = frames.followers
     rs = [frames.platform[0][None]] + [r[: a.n_joints] for (r, _), a in zip(frames.links, model.robot.arms)]
     ps = [frames.platform[1][None]] + [p[: a.n_joints] for (_, p), a in zip(frames.links, model.robot.arms)]
+    rs += [jnp.stack([r for r, _ in followers])] if followers else []
+    ps += [jnp.stack([p for _, p in followers])] if followers else []
     rotation, origin = jnp.concatenate(rs)[layout["body"]], jnp.concatenate(ps)[layout["body"]]
     return jnp.einsum("kij,kj->ki", rotation, jnp.asarray(layout["centre"])) + origin
 
 
 def centre_jacobians_one(model: CollisionModel, q: jnp.ndarray) -> jnp.ndarray:
     """Linear velocity Jacobians (n_spheres, 3, n_q) of the spheres' centres at one configuration q, by
-    :meth:`~mobman.model.robot.MobileManipulator.point_jacobian` of the body each is fixed in."""
+    :meth:`~mobman.model.robot.MobileManipulator.body_point_jacobian` of the body each is fixed in."""
     robot = model.robot
     frames = robot.frames(q)
     centres = centres_one(model, q)
     layout = _layout(model, Scene())
     blocks, order = [], []
-    for index, (arm, link) in enumerate(model.bodies):
+    for index, body in enumerate(model.bodies):
         members = np.nonzero(layout["body"] == index)[0]
         if not len(members):
             continue
-        attached = None if arm < 0 else arm
 
-        def one(point: jnp.ndarray, attached: int | None = attached, link: int = link) -> jnp.ndarray:
-            return robot.point_jacobian(q, frames, point, attached, link)[0]
+        def one(point: jnp.ndarray, body: tuple[int, int] = body) -> jnp.ndarray:
+            return robot.body_point_jacobian(q, frames, point, body)[0]
 
         blocks.append(jax.vmap(one)(centres[members]))
         order.append(members)

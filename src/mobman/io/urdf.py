@@ -13,9 +13,12 @@ Reading (:func:`load_urdf`, :func:`read_urdf`)
   platform's x, y, θ already move the base); the error names the link below them to take as the base.
 - **Mimic joints** (q = multiplier · q_leader + offset) follow a leader that does not move with q (a locked
   joint, a passive one held at 0, another mimic): they are held at that value, on the chains (folded like a
-  locked joint) or off them. A mimic of an arm coordinate cannot follow it in a serial arm: on a chain it is an
-  error (lock the leader), off the chains (HSR's torso following its arm lift) it is held at its value for
-  the coordinate at 0, with a :class:`UrdfWarning`.
+  locked joint) or off them. A mimic of an arm coordinate (directly or through other mimics) cannot follow it
+  in a serial arm: on a chain it is an error (lock the leader). Off the chains (HSR's torso following its arm
+  lift at half its travel) it follows: its link and what hangs from it become a
+  :class:`mobman.model.robot.Follower`, a body moved by multiplier · q_coordinate + offset, with its own visual
+  and collision shapes; its mass stays lumped into the body it hangs from, at the posture where the
+  coordinate is 0 (mobman's dynamics have no body off the chains that moves).
 - **Everything off the chains** (wheels, casters, fingers, head, suspension) is passive: held at zero (or
   its ``locked`` value) and listed in the :class:`UrdfSummary`. Its links move rigidly with the link they
   hang from, and their inertials and visuals are lumped into it.
@@ -104,7 +107,14 @@ from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.inertial import PlatformBody, Wheel
 from mobman.model.platforms import Platform, platform_class, platform_kinds
 from mobman.model.platforms.urdf_form import UrdfPlatform, UrdfWheel, distance
-from mobman.model.robot import MobileManipulator, actuator_names, compiled_frames
+from mobman.model.robot import (
+    FOLLOWER,
+    PLATFORM,
+    Follower,
+    MobileManipulator,
+    actuator_names,
+    compiled_frames,
+)
 from mobman.model.visual import Visual
 
 _MOVING = ("revolute", "continuous", "prismatic")
@@ -117,8 +127,8 @@ READING_OPTIONS = ("base_height",)
 
 class UrdfWarning(UserWarning):
     """What :func:`read_urdf` reads differently from the file, said once per reading (also in
-    :attr:`UrdfSummary.notes`): a mimic joint that cannot follow its leader, a platform frame whose height
-    no wheel defines."""
+    :attr:`UrdfSummary.notes`): a platform frame whose height no wheel defines, a chain joint's velocity
+    limit of 0."""
 
 
 @dataclass(frozen=True)
@@ -128,7 +138,9 @@ class UrdfSummary:
     ``chains``: per arm, the joints kept (base to tip); ``folded``: fixed joints folded into origins;
     ``locked``: joints held at a value; ``passive``: moving joints off the chains, held at zero (their links
     lumped into the link they hang from); ``mimics``: (joint, leader, value) of the mimic joints held at their
-    leader's held value; ``wheels``: (right, left) wheel joints; ``base_height``: the base link's height above
+    leader's held value; ``followers``: (joint, coordinate, multiplier, offset) of the mimic joints off the
+    chains that follow an arm coordinate (q = multiplier · q_coordinate + offset; the robot's
+    :class:`~mobman.model.robot.Follower` bodies); ``wheels``: (right, left) wheel joints; ``base_height``: the base link's height above
     the ground the platform frame is on (None: no wheel defines the ground and the platform frame is at the
     base link's height); ``platform_limits``: how the platform's velocity limits were obtained;
     ``missing_meshes``: mesh files that could not be found (:meth:`mesh_note`); ``notes``: what is read
@@ -152,6 +164,7 @@ class UrdfSummary:
     platform_limits: str = ""
     missing_meshes: tuple[str, ...] = ()
     mimics: tuple[tuple[str, str, float], ...] = ()
+    followers: tuple[tuple[str, str, float, float], ...] = ()
     notes: tuple[str, ...] = ()
 
     def lines(self) -> list[str]:
@@ -179,6 +192,9 @@ class UrdfSummary:
         if self.mimics:
             held = ", ".join(f"{n} = {v:.6g} (follows {leader})" for n, leader, v in self.mimics)
             out.append(f"mimic joints held at their leader's value: {held}")
+        if self.followers:
+            moved = ", ".join(f"{n} = {m:.6g} · {c} + {o:.6g}" for n, c, m, o in self.followers)
+            out.append(f"joints off the chains following an arm coordinate: {moved}")
         if self.missing_meshes:
             out.append(f"meshes not found (not drawn): {', '.join(self.missing_meshes)}")
         out.extend(self.notes)
@@ -839,13 +855,14 @@ def _spin_inertia(tree: _Tree, joint: Any, poses: Mapping[str, np.ndarray]) -> f
 
 def _mimic_values(
     tree: _Tree, locked: Mapping[str, float], paths: Sequence[Sequence[Any]], tips: Sequence[str]
-) -> tuple[dict[str, float], list[tuple[str, str, float]], list[str]]:
-    """Where each mimic joint is held: URDF's q = multiplier · q_leader + offset, with the leader's held value
-    (locked, or 0 for a passive joint, or a mimic's own held value), so that it follows a leader that does not
-    move with q. A mimic of a chain coordinate (directly or through other mimics) cannot follow it in a serial
-    arm: on a chain it is an error, off the chains it is held at the value for the coordinate at 0, with a
-    note. Returns the held values (the ``locked`` ones included), the (joint, leader, value) of each mimic
-    held, and the notes."""
+) -> tuple[dict[str, float], list[tuple[str, str, float]], list[tuple[str, str, float, float]]]:
+    """Where each mimic joint is: URDF's q = multiplier · q_leader + offset. One whose leader does not move
+    with q (locked, or a passive joint held at 0, or a mimic of those) is held at its value. One that moves
+    with a chain coordinate (directly or through other mimics: q = slope · q_coordinate + intercept) follows
+    it: on a chain it is an error (mobman's arms have one coordinate per joint), off the chains it moves a
+    :class:`mobman.model.robot.Follower`. Returns the held values (the ``locked`` ones included, a follower's
+    at its coordinate's 0), the (joint, leader, value) of each mimic held and the (joint, coordinate,
+    slope, intercept) of each follower."""
     coordinates = {
         j.name: t
         for t, joints in zip(tips, paths)
@@ -853,18 +870,18 @@ def _mimic_values(
         if j.type in _MOVING and j.name not in locked and j.mimic is None
     }
     on_paths = {j.name: t for t, joints in zip(tips, paths) for j in joints}
-    known: dict[str, tuple[float, str | None]] = {n: (v, None) for n, v in locked.items()}
+    # per joint: (slope, intercept, coordinate): q = slope · q_coordinate + intercept (slope 0: held)
+    known: dict[str, tuple[float, float, str | None]] = {n: (0.0, v, None) for n, v in locked.items()}
     mimics: list[tuple[str, str, float]] = []
-    notes: list[str] = []
+    followers: list[tuple[str, str, float, float]] = []
 
-    def value(joint: Any, seen: tuple[str, ...]) -> tuple[float, str | None]:
-        """The held value of ``joint`` and the chain coordinate it follows (None: it follows none)."""
+    def value(joint: Any, seen: tuple[str, ...]) -> tuple[float, float, str | None]:
         if joint.name in known:
             return known[joint.name]
         if joint.name in coordinates:
-            return 0.0, joint.name
+            return 1.0, 0.0, joint.name
         if joint.mimic is None or joint.type not in _MOVING:
-            return 0.0, None
+            return 0.0, 0.0, None
         if joint.name in seen:
             raise ModelError(f"URDF mimic joints {' → '.join((*seen, joint.name))}: a cycle")
         leader = tree.joints.get(joint.mimic.joint)
@@ -872,18 +889,18 @@ def _mimic_values(
             raise ModelError(
                 f"URDF joint {joint.name!r} mimics {joint.mimic.joint!r}, which is not a joint of the file"
             )
-        lead, coordinate = value(leader, (*seen, joint.name))
+        slope, intercept, coordinate = value(leader, (*seen, joint.name))
         multiplier = 1.0 if joint.mimic.multiplier is None else float(joint.mimic.multiplier)
         offset = 0.0 if joint.mimic.offset is None else float(joint.mimic.offset)
-        known[joint.name] = (multiplier * lead + offset, coordinate)
+        known[joint.name] = (multiplier * slope, multiplier * intercept + offset, coordinate)
         return known[joint.name]
 
     for joint in tree.joints.values():
         if joint.mimic is None or joint.name in locked or joint.type not in _MOVING:
             continue
-        held, coordinate = value(joint, ())
-        mimics.append((joint.name, joint.mimic.joint, held))
+        slope, intercept, coordinate = value(joint, ())
         if coordinate is None:
+            mimics.append((joint.name, joint.mimic.joint, intercept))
             continue
         if joint.name in on_paths:
             raise ModelError(
@@ -892,12 +909,23 @@ def _mimic_values(
                 f"{coordinates[coordinate]!r}: mobman's arms have one coordinate per joint; lock {coordinate} "
                 f"(locked={{{coordinate!r}: value}}, --lock) and it follows"
             )
-        notes.append(
-            f"URDF joint {joint.name!r} mimics {joint.mimic.joint!r}, which moves with the arm coordinate "
-            f"{coordinate!r}: off the arm chains it cannot follow it and is held at {held:.6g} (the value at "
-            f"{coordinate} = 0) with the links below it; lock {coordinate} to have it follow"
-        )
-    return {name: v for name, (v, _) in known.items()}, mimics, notes
+        followers.append((joint.name, coordinate, slope, intercept))
+    return {name: intercept for name, (_, intercept, _) in known.items()}, mimics, followers
+
+
+def _follower_joints(
+    tree: _Tree, following: Sequence[tuple[str, str, float, float]]
+) -> list[tuple[Any, tuple[str, float, float]]]:
+    """The joints of ``following`` (joint, coordinate, slope, intercept) with their (coordinate, slope,
+    intercept), in the order of a walk down the tree: a follower below another comes after it."""
+    wanted = {name: (coordinate, slope, intercept) for name, coordinate, slope, intercept in following}
+    order, stack = [], [tree.root]
+    while stack:
+        for j in tree.children.get(stack.pop(), []):
+            if j.name in wanted:
+                order.append(j)
+            stack.append(j.child)
+    return [(j, wanted[j.name]) for j in order]
 
 
 def _planar_base_joints(chain: Sequence[Any], poses: Mapping[str, np.ndarray], base_pose: np.ndarray) -> list:
@@ -1006,7 +1034,8 @@ def _read(
         if not math.isfinite(value):
             raise ModelError(f"locked: {joint_name} must be finite, got {value!r}")
     paths = [tree.path(base, t) for t in tips]
-    held, mimics, notes = _mimic_values(tree, locked, paths, tips)
+    held, mimics, following = _mimic_values(tree, locked, paths, tips)
+    notes: list[str] = []
     poses = _poses(tree, held)
     base_pose = poses[base]
     chains: list[list] = []
@@ -1036,7 +1065,9 @@ def _read(
             )
         chains.append(chain)
     starts = {j.child: (i, k) for i, chain in enumerate(chains) for k, j in enumerate(chain)}
-    groups = _groups(tree, starts)
+    groups = _groups(tree, starts)  # the bodies that carry each link's mass
+    follower_joints = _follower_joints(tree, following)
+    shown = _groups(tree, starts | {j.child: (FOLLOWER, f) for f, (j, _) in enumerate(follower_joints)})
     on_chain = {j.name for chain in chains for j in chain}
     passive = [
         j for j in urdf.robot.joints if j.type in _MOVING and j.name not in on_chain and j.name not in locked
@@ -1066,6 +1097,9 @@ def _read(
     by_group: dict = {}
     for link, g in groups.items():
         by_group.setdefault(g, []).append(link)
+    by_shape: dict = {}  # the bodies that carry each link's shapes: the followers' links their own
+    for link, g in shown.items():
+        by_shape.setdefault(g, []).append(link)
     arms = []
     folded: list[str] = []
     for i, (t, joints) in enumerate(zip(tips, paths)):
@@ -1099,7 +1133,7 @@ def _read(
                     if lumped is None or lumped[0] <= 0
                     else LinkInertial(lumped[0], tuple(lumped[1]), tuple(lumped[2].ravel())),
                     visuals=_visuals(
-                        tree, by_group.get((i, k), []), frame, poses, directory, materials, missing
+                        tree, by_shape.get((i, k), []), frame, poses, directory, materials, missing
                     ),
                 )
             )
@@ -1115,11 +1149,37 @@ def _read(
             f"no limit): joint{'s' * (len(unlimited) > 1)} {', '.join(map(repr, unlimited))}"
         )
     platform_links = by_group.get(None, [])
+    shapes = functools.partial(
+        _visuals, poses=poses, directory=directory, materials=materials, missing=missing
+    )
+    frames = {None: platform_pose} | {
+        (i, k): poses[j.child] for i, c in enumerate(chains) for k, j in enumerate(c)
+    }
+    frames |= {(FOLLOWER, f): poses[j.child] for f, (j, _) in enumerate(follower_joints)}
+    coordinate = {j.name: sum(map(len, chains[:i])) + k for i, c in enumerate(chains) for k, j in enumerate(c)}
+    followers = []
+    for f, (j, (leader, slope, intercept)) in enumerate(follower_joints):
+        parent = shown[j.parent]
+        limit = j.limit
+        bounded = j.type != "continuous" and limit is not None
+        joint = Joint(
+            kind="prismatic" if j.type == "prismatic" else "revolute",
+            axis=tuple(_axis(j)),
+            origin=tuple((np.linalg.inv(frames[parent]) @ poses[j.parent] @ _origin(j)).ravel()),
+            offset=intercept,
+            name=j.name,
+            lower=float(limit.lower) if bounded and limit.lower is not None else -math.inf,
+            upper=float(limit.upper) if bounded and limit.upper is not None else math.inf,
+            visuals=shapes(tree, by_shape.get((FOLLOWER, f), []), frame=poses[j.child]),
+        )
+        index = platform_model.n_q + coordinate[leader]
+        followers.append(Follower(joint, PLATFORM if parent is None else parent, index, slope))
     robot = MobileManipulator(
         platform_model,
         tuple(arms),
         name=name or urdf.robot.name or file.stem,
-        platform_visuals=_visuals(tree, platform_links, platform_pose, poses, directory, materials, missing),
+        platform_visuals=shapes(tree, by_shape.get(None, []), frame=platform_pose),
+        followers=tuple(followers),
     )
     body, wheel = _platform_inertials(tree, platform_links, platform_pose, poses, wheel_pair)
     efforts = _platform_efforts(platform_model, wheel_joints)
@@ -1137,6 +1197,7 @@ def _read(
         missing_meshes=tuple(dict.fromkeys(missing)),
         base_height=height,
         mimics=tuple(mimics),
+        followers=tuple(following),
         notes=tuple(notes),
         **summary_extra,
     )
@@ -1226,19 +1287,21 @@ def inspect_urdf(path: str | os.PathLike[str], **options: Any) -> UrdfSummary:
 
 def collision_shapes(model: UrdfModel) -> dict[tuple[int, int], tuple[Visual, ...]]:
     """The ``<collision>`` shapes of a robot read by :func:`read_urdf`, per body ((−1, 0) the platform, (arm,
-    joint index) a link, as :mod:`mobman.model.collision_model` numbers them), each in its body's frame (the
-    frames its visuals are in): what :meth:`mobman.model.collision_model.CollisionModel.from_shapes` covers
+    joint index) a link, (−2, k) a follower, as :mod:`mobman.model.collision_model` numbers them), each in its
+    body's frame (the frames its visuals are in): what :meth:`mobman.model.collision_model.CollisionModel.from_shapes` covers
     with spheres. Links off the chains go with the body they hang from; meshes not found are left out."""
     summary, robot = model.summary, model.robot
     urdf, file = _parse(summary.path)
     tree = _Tree.of(urdf.robot, file)
     held = dict(summary.locked) | {joint: value for joint, _, value in summary.mimics}
+    held |= {follower.joint.name: follower.joint.offset for follower in robot.followers}
     poses = _poses(tree, held)
     starts = {
         tree.joints[name].child: (i, k)
         for i, chain in enumerate(summary.chains)
         for k, name in enumerate(chain)
     }
+    starts |= {tree.joints[f.joint.name].child: (FOLLOWER, k) for k, f in enumerate(robot.followers)}
     rotations, origins = compiled_frames(robot, np.zeros(robot.n_q)).links[0]  # the platform at the origin
     first = spatial.as_matrix(spatial.transform(np.asarray(rotations[0]), tuple(np.asarray(origins[0]))))
     frames: dict[tuple[int, int] | None, np.ndarray] = {
@@ -1399,11 +1462,64 @@ def write_urdf(
         tool = f"{prefix}tool_link"
         links.append(Link(tool))
         joints.append(UJoint(f"{prefix}tool_joint", "fixed", parent, tool, spatial.as_matrix(arm.tool)))
+    for link, joint in _followers_urdf(robot):
+        links.append(link)
+        joints.append(joint)
     file = Path(path)
-    URDF(
+    xml = URDF(
         Robot(robot.name, links=links, joints=joints), build_scene_graph=False, load_meshes=False
-    ).write_xml_file(str(file))
+    ).write_xml()
+    for joint in joints:  # yourdfpy reads <mimic> but does not write it
+        if joint.mimic is not None:
+            (element,) = xml.getroot().findall(f"joint[@name='{joint.name}']")
+            attributes = {"multiplier": repr(joint.mimic.multiplier), "offset": repr(joint.mimic.offset)}
+            element.append(element.makeelement("mimic", {"joint": joint.mimic.joint, **attributes}))
+    xml.write(str(file), xml_declaration=True, pretty_print=True)
     return file
+
+
+def _followers_urdf(robot: MobileManipulator) -> list[tuple[Any, Any]]:
+    """Each follower as a link (its visuals) and a mimic joint of its leader's joint, below the link of the
+    body it hangs from (as :func:`write_urdf` names the links)."""
+    from yourdfpy import Joint as UJoint
+    from yourdfpy import Limit, Link, Mimic
+
+    names = {PLATFORM: "base_footprint"}
+    coordinates = []
+    for i, arm in enumerate(robot.arms):
+        prefix = _arm_prefix(robot, i)
+        names |= {(i, k): f"{prefix}{joint.name}_link" for k, joint in enumerate(arm.joints)}
+        coordinates += [f"{prefix}{joint.name}" for joint in arm.joints]
+    out = []
+    for k, follower in enumerate(robot.followers):
+        joint = follower.joint
+        child = f"{joint.name}_link"
+        names[(FOLLOWER, k)] = child
+        bounded = math.isfinite(joint.lower) or math.isfinite(joint.upper)
+        kind = joint.kind if joint.kind == "prismatic" or bounded else "continuous"
+        limit = Limit(
+            effort=0.0,
+            velocity=0.0,
+            lower=_limit_value(joint.lower) if kind != "continuous" else None,
+            upper=_limit_value(joint.upper) if kind != "continuous" else None,
+        )
+        mimic = Mimic(
+            joint=coordinates[follower.leader - robot.n_platform],
+            multiplier=follower.multiplier,
+            offset=joint.offset,
+        )
+        urdf_joint = UJoint(
+            joint.name,
+            kind,
+            names[follower.parent],
+            child,
+            spatial.as_matrix(joint.origin),
+            np.asarray(joint.axis),
+            limit=limit,
+            mimic=mimic,
+        )
+        out.append((Link(child, visuals=_u_visuals(joint.visuals)), urdf_joint))
+    return out
 
 
 def _arm_prefix(robot: MobileManipulator, index: int) -> str:

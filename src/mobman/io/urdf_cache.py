@@ -115,7 +115,8 @@ def _kept(path: Path) -> UrdfModel | None:
 def _mesh_stamps(model: UrdfModel) -> tuple:
     """(file, size, modification time) of every mesh the robot draws; a file gone is (file, None, None)."""
     robot = model.robot
-    visuals = [*robot.platform_visuals, *(v for arm in robot.arms for j in arm.joints for v in j.visuals)]
+    joints = [*(j for arm in robot.arms for j in arm.joints), *(f.joint for f in robot.followers)]
+    visuals = [*robot.platform_visuals, *(v for j in joints for v in j.visuals)]
     out: list[tuple[str, int | None, int | None]] = []
     for name in sorted({v.filename for v in visuals if v.filename}):
         try:

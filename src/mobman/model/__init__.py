@@ -11,7 +11,7 @@ from mobman.model.platforms import (
     platform_class,
     platform_kinds,
 )
-from mobman.model.robot import Frames, MobileManipulator, Mount
+from mobman.model.robot import Follower, Frames, MobileManipulator, Mount
 from mobman.model.tasks import (
     ElbowAngle,
     Elevation,
@@ -36,6 +36,7 @@ __all__ = [
     "Elevation",
     "EulerAngles",
     "Fixed",
+    "Follower",
     "Frames",
     "FunctionTask",
     "Joint",

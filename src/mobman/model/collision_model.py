@@ -4,7 +4,8 @@ Bodies
 ------
 Body 0 is the platform (its frame, :attr:`mobman.model.robot.Frames.platform`); then, arm by arm, the link each
 joint moves, in that joint's frame after its motion (the frames of :meth:`mobman.model.arm.Arm.link_poses`),
-where :class:`mobman.model.visual.Visual` shapes are attached.
+where :class:`mobman.model.visual.Visual` shapes are attached; then the followers
+(:class:`mobman.model.robot.Follower`: bodies off the chains that follow an arm coordinate), each in its frame.
 
 Shapes and their sphere cover
 -----------------------------
@@ -25,8 +26,8 @@ base is one: a tenth of its hull's volume) whose inside a cover of the mesh itse
 
 Self-collision pairs
 --------------------
-Every pair of bodies, except neighbours (the platform and each arm's first link, consecutive links of an arm)
-and pairs whose spheres overlap at the neutral posture (every joint at 0, or at its nearer limit when 0 is
+Every pair of bodies, except neighbours (the platform and each arm's first link, consecutive links of an arm, a
+follower and the body it hangs from) and pairs whose spheres overlap at the neutral posture (every joint at 0, or at its nearer limit when 0 is
 outside its range), the way an SRDF's disabled pairs work; :meth:`CollisionModel.with_pairs` overrides them.
 """
 
@@ -44,7 +45,7 @@ import numpy as np
 from mobman import checks
 from mobman.errors import ModelError
 from mobman.model import primitives, spatial
-from mobman.model.robot import MobileManipulator, compiled_frames
+from mobman.model.robot import FOLLOWER, PLATFORM, Body, MobileManipulator, compiled_frames
 from mobman.model.visual import Visual
 
 DEFAULT_TOLERANCE = 0.05
@@ -56,10 +57,6 @@ CONTROL_TOLERANCE = 0.1
 self sphere pairs, against 854 and 60 k at :data:`DEFAULT_TOLERANCE`); the robot keeps its margin plus at most
 τ from the obstacles."""
 
-Body = tuple[int, int]
-"""A body: (-1, 0) for the platform, (arm, link) for the link joint ``link`` of arm ``arm`` moves."""
-
-PLATFORM: Body = (-1, 0)
 
 
 @dataclass(frozen=True)
@@ -107,16 +104,16 @@ class CollisionModel:
 
     @property
     def bodies(self) -> tuple[Body, ...]:
-        """Every body of the robot: the platform, then each arm's links."""
-        return (PLATFORM,) + tuple(
-            (a, k) for a, arm in enumerate(self.robot.arms) for k in range(arm.n_joints)
-        )
+        """Every body of the robot: the platform, then each arm's links, then the followers."""
+        return bodies(self.robot)
 
     def body_name(self, body: Body) -> str:
-        """A body's name: ``platform`` or its joint's coordinate name."""
+        """A body's name: ``platform``, its joint's coordinate name, or a follower's joint name."""
         if body == PLATFORM:
             return "platform"
         arm, link = body
+        if arm == FOLLOWER:
+            return self.robot.followers[link].joint.name or f"follower{link}"
         return self.robot.coordinate_names[self.robot.arm_slice(arm)][link]
 
     @property
@@ -170,6 +167,12 @@ def _checked_pairs(pairs: Iterable[tuple[int, int]], n: int) -> tuple[tuple[int,
     return tuple(dict.fromkeys(out))
 
 
+def bodies(robot: MobileManipulator) -> tuple[Body, ...]:
+    """Every body of a robot: the platform, then each arm's links, then the followers."""
+    links = tuple((a, k) for a, arm in enumerate(robot.arms) for k in range(arm.n_joints))
+    return (PLATFORM, *links, *((FOLLOWER, k) for k in range(len(robot.followers))))
+
+
 def neutral_posture(robot: MobileManipulator) -> np.ndarray:
     """q = 0, each joint clipped to its limits (the posture at which overlapping pairs are disabled)."""
     lower, upper = np.array(robot.position_limits, dtype=float).T
@@ -177,12 +180,10 @@ def neutral_posture(robot: MobileManipulator) -> np.ndarray:
 
 
 def body_poses(robot: MobileManipulator, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """World poses (R, p) of every body (platform, then each arm's links) at one configuration ``q``."""
+    """World poses (R, p) of every body (:func:`bodies`) at one configuration ``q``."""
     frames = compiled_frames(robot, np.asarray(q, dtype=float))
-    poses = [(np.asarray(frames.platform[0]), np.asarray(frames.platform[1]))]
-    for (rs, ps), arm in zip(frames.links, robot.arms):
-        poses += [(np.asarray(rs[k]), np.asarray(ps[k])) for k in range(arm.n_joints)]
-    return poses
+    poses = [frames.body(body) for body in bodies(robot)]
+    return [(np.asarray(rotation), np.asarray(origin)) for rotation, origin in poses]
 
 
 def default_pairs(model: CollisionModel, clearance: float = 0.0) -> tuple[tuple[int, int], ...]:
@@ -195,6 +196,9 @@ def default_pairs(model: CollisionModel, clearance: float = 0.0) -> tuple[tuple[
         (index[(a, k)], index[(a, k + 1)])
         for a, arm in enumerate(model.robot.arms)
         for k in range(arm.n_joints - 1)
+    }
+    neighbours |= {
+        (index[follower.parent], index[(FOLLOWER, k)]) for k, follower in enumerate(model.robot.followers)
     }
     poses = body_poses(model.robot, neutral_posture(model.robot))
     body_of = np.array([index[s.body] for s in model.spheres])
@@ -289,6 +293,9 @@ def robot_shapes(robot: MobileManipulator) -> dict[Body, tuple[Visual, ...]]:
         for k, joint in enumerate(arm.joints):
             if joint.visuals:
                 shapes[(a, k)] = joint.visuals
+    for k, follower in enumerate(robot.followers):
+        if follower.joint.visuals:
+            shapes[(FOLLOWER, k)] = follower.joint.visuals
     return shapes
 
 
@@ -410,10 +417,12 @@ def cover(shape: Visual, tolerance: float = DEFAULT_TOLERANCE) -> tuple[np.ndarr
 __all__ = [
     "CONTROL_TOLERANCE",
     "DEFAULT_TOLERANCE",
+    "FOLLOWER",
     "PLATFORM",
     "Body",
     "CollisionModel",
     "CollisionSphere",
+    "bodies",
     "body_poses",
     "cover",
     "default_pairs",

@@ -22,7 +22,7 @@ import numpy.typing as npt
 from mobman.checks import all_finite, real_array
 from mobman.errors import InputError, ModelError
 from mobman.model import spatial
-from mobman.model.arm import Arm, LinkInertial
+from mobman.model.arm import Arm, Joint, LinkInertial
 from mobman.model.platforms import Platform
 from mobman.model.spatial import Transform
 from mobman.model.visual import Visual
@@ -65,14 +65,66 @@ class Mount:
         return spatial.transform(rotation, (self.x, self.y, self.z))
 
 
+Body = tuple[int, int]
+"""A body of the robot: (-1, 0) the platform, (arm, link) the link joint ``link`` of arm ``arm`` moves,
+(-2, k) the :class:`Follower` ``k``."""
+
+PLATFORM: Body = (-1, 0)
+
+FOLLOWER = -2
+"""The first entry of a follower's :data:`Body`."""
+
+
+@dataclass(frozen=True)
+class Follower:
+    """A body off the arm chains moved by a joint that follows an arm coordinate (a URDF ``<mimic>`` joint:
+    HSR's torso rises with its arm lift at half its travel). ``joint`` is that joint (its ``origin`` in the
+    frame of the ``parent`` body, its ``visuals`` the shapes of the body), moved by the motion variable
+    ``multiplier · q[leader] + joint.offset`` (URDF's mimic: multiplier · q_leader + offset); ``leader`` is the
+    coordinate's index in q. A follower carries no coordinate of its own, so it adds no column to J̄; its mass,
+    where it has one, stays in the body it hangs from (the dynamics of a real robot keep it there, at the
+    posture where the leader is 0)."""
+
+    joint: Joint
+    parent: Body
+    leader: int
+    multiplier: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.joint, Joint):
+            raise ModelError(f"Follower: joint must be a Joint, got {type(self.joint).__name__}")
+        object.__setattr__(self, "parent", (int(self.parent[0]), int(self.parent[1])))
+        if not math.isfinite(self.multiplier):
+            raise ModelError(f"Follower {self.joint.name!r}: multiplier must be finite, got {self.multiplier!r}")
+
+    def pose(
+        self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray | np.ndarray
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
+        """World pose (R, p) of the follower's frame from its parent's world pose at configuration q."""
+        return self.joint.pose_after(parent, self.multiplier * jnp.asarray(q)[..., self.leader])
+
+
 @dataclass(frozen=True)
 class Frames:
-    """World poses of one configuration: platform, each mount, each arm's joint frames and tool frame."""
+    """World poses of one configuration: platform, each mount, each arm's joint frames and tool frame, each
+    follower's frame."""
 
     platform: tuple[jnp.ndarray, jnp.ndarray]
     mounts: tuple[tuple[jnp.ndarray, jnp.ndarray], ...]
     links: tuple[tuple[jnp.ndarray, jnp.ndarray], ...]
     """per arm: R (n_joints + 1, 3, 3) and p (n_joints + 1, 3); the last entry is the tool frame."""
+    followers: tuple[tuple[jnp.ndarray, jnp.ndarray], ...] = ()
+    """per :class:`Follower`: R (3, 3) and p (3,)."""
+
+    def body(self, body: Body) -> tuple[jnp.ndarray, jnp.ndarray]:
+        """The world pose (R, p) of a :data:`Body`."""
+        kind, index = body
+        if kind == PLATFORM[0]:
+            return self.platform
+        if kind == FOLLOWER:
+            return self.followers[index]
+        rs, ps = self.links[kind]
+        return rs[..., index, :, :], ps[..., index, :]
 
 
 MAX_JOINTS = 64
@@ -93,7 +145,8 @@ class MobileManipulator:
     ``mounts`` left empty puts every arm base at the platform frame's origin (one ``Mount()`` per arm).
 
     ``platform_visuals`` are the shapes of the platform body in the platform frame (for drawing only: they
-    take no part in equality or hashing); each arm joint carries the shapes of its own link.
+    take no part in equality or hashing); each arm joint carries the shapes of its own link. ``followers``
+    are the bodies off the chains that follow an arm coordinate (:class:`Follower`).
     """
 
     platform: Platform
@@ -103,6 +156,7 @@ class MobileManipulator:
     name: str = "mobile-manipulator"
     parameters: tuple[tuple[str, float], ...] = field(default=(), compare=True)
     platform_visuals: tuple[Visual, ...] = field(default=(), compare=False)
+    followers: tuple[Follower, ...] = ()
 
     def __post_init__(self) -> None:
         arms = (self.arms,) if isinstance(self.arms, Arm) else tuple(self.arms)
@@ -124,13 +178,37 @@ class MobileManipulator:
         object.__setattr__(self, "platform_visuals", tuple(self.platform_visuals))
         if self.task is None:
             object.__setattr__(self, "task", _first_tool_position())
+        object.__setattr__(self, "followers", tuple(self.followers))
+        self._check_followers()
+
+    def _check_followers(self) -> None:
+        n_platform = self.platform.n_q
+        links = {(a, k) for a, arm in enumerate(self.arms) for k in range(arm.n_joints)}
+        for k, follower in enumerate(self.followers):
+            if not isinstance(follower, Follower):
+                raise ModelError(f"{self.name}: followers must be Follower, got {type(follower).__name__}")
+            name = follower.joint.name or f"follower {k}"
+            total = n_platform + sum(a.n_joints for a in self.arms)
+            if not n_platform <= follower.leader < total:
+                raise ModelError(
+                    f"{self.name}: follower {name!r} leads from q[{follower.leader}], not an arm coordinate "
+                    f"(q[{n_platform}] to q[{total - 1}])"
+                )
+            parent = follower.parent
+            if not (parent == PLATFORM or parent in links or parent in {(FOLLOWER, i) for i in range(k)}):
+                raise ModelError(
+                    f"{self.name}: follower {name!r} hangs from {parent}, not the platform (-1, 0), an arm link "
+                    f"(arm, link) or an earlier follower (-2, index)"
+                )
 
     def __hash__(self) -> int:
         # The robot is a static argument of compiled functions and is hashed on every call: hash the nested
         # description once (it is immutable). The cached value is not pickled (string hashes are per process).
         cached = self.__dict__.get("_hash")
         if cached is None:
-            cached = hash((self.platform, self.arms, self.mounts, self.task, self.name, self.parameters))
+            cached = hash(
+                (self.platform, self.arms, self.mounts, self.task, self.name, self.parameters, self.followers)
+            )
             object.__setattr__(self, "_hash", cached)
         return cached
 
@@ -318,7 +396,14 @@ class MobileManipulator:
             mount_pose = spatial.compose_fixed_pose(platform, mount.transform)
             mounts.append(mount_pose)
             links.append(arm.link_poses(q_a, base=mount_pose))
-        return Frames(platform, tuple(mounts), tuple(links))
+        frames = Frames(platform, tuple(mounts), tuple(links))
+        if not self.followers:
+            return frames
+        followers: list[tuple[jnp.ndarray, jnp.ndarray]] = []
+        for follower in self.followers:
+            parent = replace(frames, followers=tuple(followers)).body(follower.parent)
+            followers.append(follower.pose(parent, q))
+        return replace(frames, followers=tuple(followers))
 
     def point_jacobian(
         self,
@@ -368,6 +453,27 @@ class MobileManipulator:
             j_ang.append(ang_cols)
         linear, angular = jnp.concatenate(j_lin, axis=1), jnp.concatenate(j_ang, axis=1)
         return (self.couple(linear), self.couple(angular)) if coupled else (linear, angular)
+
+    def body_point_jacobian(
+        self, q: jnp.ndarray, frames: Frames, point: jnp.ndarray, body: Body
+    ) -> tuple[jnp.ndarray, jnp.ndarray]:
+        """Linear and angular (3 × n_q) velocity Jacobians of a point fixed in ``body`` (:data:`Body`): the
+        platform's or a link's :meth:`point_jacobian`; a follower's is its parent's plus, in its leader's
+        column, the multiplier times its joint's geometric column (a × (p − o) and a for a revolute joint, a
+        and 0 for a prismatic one, a its axis in the world)."""
+        kind, index = body
+        if kind != FOLLOWER:
+            return self.point_jacobian(q, frames, point, None if kind < 0 else kind, index)
+        follower = self.followers[index]
+        linear, angular = self.body_point_jacobian(q, frames, point, follower.parent)
+        rotation, origin = frames.followers[index]
+        axis = spatial.matvec_constant(rotation, follower.joint.axis)
+        if follower.joint.kind == "revolute":
+            columns = (spatial.cross(axis, point - origin), axis)
+        else:
+            columns = (axis, jnp.zeros_like(axis))
+        m, k = follower.multiplier, follower.leader
+        return linear.at[:, k].add(m * columns[0]), angular.at[:, k].add(m * columns[1])
 
     @cached_property
     def _coupled(self) -> bool:
@@ -422,4 +528,4 @@ def compiled_frames(robot: MobileManipulator, q: npt.ArrayLike) -> Frames:
 @partial(jax.jit, static_argnums=0)
 def _frames_program(robot: MobileManipulator, q: jax.Array) -> tuple:
     poses = robot.frames(q)
-    return poses.platform, poses.mounts, poses.links
+    return poses.platform, poses.mounts, poses.links, poses.followers

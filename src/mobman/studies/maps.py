@@ -316,7 +316,8 @@ def robot_digest(robot: MobileManipulator) -> str:
     """A short digest of the robot's description: its platform, mounts and arms (kinematics, limits and
     inertials), not its task nor its visual shapes (whose mesh files lie where a machine installed them). A
     store computed for another robot of the same name is refused."""
-    text = repr(_described((robot.platform, robot.mounts, robot.arms)))
+    parts = (robot.platform, robot.mounts, robot.arms) + ((robot.followers,) if robot.followers else ())
+    text = repr(_described(parts))
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 

@@ -101,12 +101,13 @@ factor then stays fixed."""
 @dataclass(frozen=True)
 class Snapshot:
     """What the viewer draws for a batch of configurations (leading axis T): the frames (platform pose, joint
-    and tool frames of each arm), the ellipsoid at each arm's tool (centre (T, A, 3), semi-axes (T, A, 3),
+    and tool frames of each arm, each follower's frame), the ellipsoid at each arm's tool (centre (T, A, 3), semi-axes (T, A, 3),
     directions (T, A, 3, 3) for A arms), J̄, the measures and the flags."""
 
     q: np.ndarray
     platform: tuple[np.ndarray, np.ndarray]
     links: tuple[tuple[np.ndarray, np.ndarray], ...]
+    followers: tuple[tuple[np.ndarray, np.ndarray], ...]
     centre: np.ndarray
     axes: np.ndarray
     directions: np.ndarray
@@ -189,6 +190,7 @@ def _evaluate(
         padded,
         (np.asarray(frames.platform[0]), np.asarray(frames.platform[1])),
         links,
+        tuple((np.asarray(r), np.asarray(p)) for r, p in frames.followers),
         np.stack([p[:, -1] for _, p in links], axis=1),
         axes,
         directions,
@@ -690,6 +692,13 @@ class Viewer:
             names.append(tool)
             self._arm_nodes.append(names)
             self._generated.append(generated)
+        self._follower_nodes: list[str] = []
+        for k, follower in enumerate(robot.followers):
+            node = f"/robot/followers/{_node_name(follower.joint.name or f'follower{k}')}"
+            self._keep(scene.add_frame(node, show_axes=False))
+            self._follower_nodes.append(node)
+            for i, visual in enumerate(follower.joint.visuals):
+                self._add_visual(f"{node}/{_node_name(visual.name or f'visual{i}')}", visual)
         sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
         shown = (("kinematic", ELLIPSOID_COLOR), ("dynamic", DYNAMIC_COLOR))[: 2 if self.dynamics else 1]
         for (kind, color), index in itertools.product(shown, range(len(robot.arms))):
@@ -727,6 +736,8 @@ class Viewer:
                         assert isinstance(link, viser.MeshHandle)  # a generated link is a mesh
                         link.wxyz, link.scale = turn, (1.0, 1.0, max(length, 1e-6))
                         link.visible = length > 1e-9
+            for (r, p), name in zip(snap.followers, self._follower_nodes):
+                nodes[name].wxyz, nodes[name].position = _wxyz(r[0]), p[0]
             self._draw_ellipsoid(snap)
             if self.collision is not None:
                 self._draw_collision(snap.q)
