@@ -15,11 +15,10 @@ from coal_shapes import coal_distance, coal_shape
 
 from mobman import collision
 from mobman.errors import ModelError
-from mobman.model import robots
+from mobman.model import robots, spatial
+from mobman.model.arm import Joint
 from mobman.model.collision_model import CollisionModel, CollisionSphere
 from mobman.model.platforms import DifferentialDrive, Omnidirectional
-from mobman.model import spatial
-from mobman.model.arm import Joint
 from mobman.model.robot import Follower, MobileManipulator
 from mobman.model.scene import Obstacle, Scene
 from mobman.model.visual import Visual

@@ -740,4 +740,6 @@ def test_a_follower_s_collision_shapes_rise_with_its_leader(tmp_path):
     low, high = out.distance.min(axis=1)
     assert low - high == pytest.approx(0.1, abs=1e-9)
     closest = int(np.argmin(out.distance[1]))
-    np.testing.assert_allclose(out.rows[1, closest, 2], -0.5, atol=1e-9)  # ḋ = −½ q̇_lift (η: v, ω, lift, wrist)
+    np.testing.assert_allclose(
+        out.rows[1, closest, 2], -0.5, atol=1e-9
+    )  # ḋ = −½ q̇_lift (η: v, ω, lift, wrist)

@@ -1156,7 +1156,9 @@ def _read(
         (i, k): poses[j.child] for i, c in enumerate(chains) for k, j in enumerate(c)
     }
     frames |= {(FOLLOWER, f): poses[j.child] for f, (j, _) in enumerate(follower_joints)}
-    coordinate = {j.name: sum(map(len, chains[:i])) + k for i, c in enumerate(chains) for k, j in enumerate(c)}
+    coordinate = {
+        j.name: sum(map(len, chains[:i])) + k for i, c in enumerate(chains) for k, j in enumerate(c)
+    }
     followers = []
     for f, (j, (leader, slope, intercept)) in enumerate(follower_joints):
         parent = shown[j.parent]

@@ -58,7 +58,6 @@ self sphere pairs, against 854 and 60 k at :data:`DEFAULT_TOLERANCE`); the robot
 τ from the obstacles."""
 
 
-
 @dataclass(frozen=True)
 class CollisionSphere:
     """A sphere fixed in a body: its ``centre`` in the body's frame (m), its ``radius`` (m) and the ``label``

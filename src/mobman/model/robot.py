@@ -95,7 +95,9 @@ class Follower:
             raise ModelError(f"Follower: joint must be a Joint, got {type(self.joint).__name__}")
         object.__setattr__(self, "parent", (int(self.parent[0]), int(self.parent[1])))
         if not math.isfinite(self.multiplier):
-            raise ModelError(f"Follower {self.joint.name!r}: multiplier must be finite, got {self.multiplier!r}")
+            raise ModelError(
+                f"Follower {self.joint.name!r}: multiplier must be finite, got {self.multiplier!r}"
+            )
 
     def pose(
         self, parent: tuple[jnp.ndarray, jnp.ndarray], q: jnp.ndarray | np.ndarray
