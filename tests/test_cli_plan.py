@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -175,6 +176,34 @@ def test_a_plan_beside_an_obstacle_reaches_its_goal_and_reports_its_clearance(tm
     assert alone["min_distance"] == pytest.approx(report["min_distance"], abs=1e-12)
     assert (alone["closest"]["robot"], alone["closest"]["other"]) == (closest["robot"], closest["other"])
     np.testing.assert_allclose(alone["closest"]["robot_point"], closest["robot_point"], atol=1e-12)
+
+
+def test_avoid_plans_around_the_obstacle_and_still_reaches_the_goal(tmp_path, cli_json):
+    """The rock the paper's plan drives through: with --avoid the null-space term bends the path around it
+    (every pair clear of the rock along the path) and the plan still converges to the target."""
+    rock = (
+        Path(__file__).resolve().parents[1] / "docs" / "examples" / "car_rock.toml"
+    )  # _rock(tmp_path, 0.283)
+    assert rock.read_text().endswith(_rock(tmp_path, 0.283).read_text().splitlines()[-1] + "\n")
+    report = cli_json([*PAPER, "--scene", str(rock), "--avoid"])
+    assert report["converged"] and report["reached"] and report["final_error"] <= 1e-12
+    assert report["first_collision"] is None and report["min_distance"] > 0.1
+    assert report["avoidance"] == {"influence_distance": 0.2, "gain": 10.0}
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--avoid"], "--avoid: needs --scene FILE"),
+        (["--avoid", "--scene", "ROCK", "--algorithm", "adjoint"], "--avoid: works through the null space"),
+        (["--avoid", "--scene", "ROCK", "--avoid-gain", "0"], "--avoid-gain must be a finite number > 0"),
+        (["--avoid", "--scene", "ROCK", "--influence-distance", "nan"], "--influence-distance must be"),
+    ],
+)
+def test_bad_avoid_options_are_one_line(tmp_path, capsys, options, message):
+    rock = str(_rock(tmp_path, 0.283))
+    code, captured = _run([*PAPER, *(rock if o == "ROCK" else o for o in options)], capsys)
+    assert code == 2 and len(captured.err.strip().splitlines()) == 1 and message in captured.err
 
 
 def test_a_bad_scene_is_one_line(tmp_path, capsys):

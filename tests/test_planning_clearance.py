@@ -83,3 +83,31 @@ def test_without_pairs_nothing_is_reported():
     clearance = path_clearance(lone, Scene(), T, Q)
     assert clearance.min_distance is None and clearance.first_collision is None
     assert np.isinf(clearance.distance).all()
+
+
+def test_the_avoidance_vector_is_minus_the_penalty_s_gradient_by_finite_differences():
+    """w(z) = −k ∇_z P(z): along a random direction its projection equals −k times the central difference of
+    P, which it lowers; P is zero where every pair is farther than d_i."""
+    import jax
+    import jax.numpy as jnp
+
+    from mobman.planning.basis import Fourier
+    from mobman.planning.clearance import avoidance, clearance_penalty
+    from mobman.planning.endpoint import PlanningSetting
+
+    setting = PlanningSetting(ROBOT, Fourier(1), horizon=1.0, steps=8, jacobian_steps=8)
+    scene = Scene((Obstacle("rock", "sphere", (RADIUS,), (5.0, 0.0, 0.15)),))  # over the car at its start
+    rng = np.random.default_rng(2)
+    z = jnp.asarray(np.concatenate([rng.normal(0.0, 0.3, setting.n_controls * 3), [0.3, 0.5, -0.4]]))
+    q0 = jnp.asarray([5.0, 0.0, 0.0, 0.0])
+    penalty_of = jax.jit(lambda zz: clearance_penalty(setting, MODEL, scene, 0.2, zz, q0))
+    penalty = lambda zz: float(penalty_of(zz))  # noqa: E731
+    assert penalty(z) > 0
+    w = np.asarray(jax.jit(avoidance(setting, MODEL, scene, 0.2, 3.0))(z, q0))
+    v = rng.normal(size=z.shape)
+    h = 1e-6
+    slope = (penalty(z + h * v) - penalty(z - h * v)) / (2 * h)
+    assert w @ v == pytest.approx(-3.0 * slope, rel=1e-5, abs=1e-9)
+    assert penalty(z + 1e-3 * w) < penalty(z)
+    far = Scene((Obstacle("rock", "sphere", (RADIUS,), (40.0, 0.0, 0.0)),))
+    assert float(jax.jit(lambda zz: clearance_penalty(setting, MODEL, far, 0.2, zz, q0))(z)) == 0.0

@@ -11,6 +11,9 @@ nothing written).
 With ``--scene FILE`` the planned motion is checked against the scene's obstacles and floor and against the
 robot itself (:mod:`mobman.planning.clearance`, the collision spheres of ``mobman distance`` at
 ``--cover-tolerance``): its smallest distance, the closest pair, and the first collision (time, pair, depth).
+``--avoid`` also plans around them: the pseudo-inverse algorithm's null-space term (Tchoń et al. eq. 16) is the
+gradient that pushes every pair of the path farther than ``--influence-distance``, scaled by ``--avoid-gain``
+(:func:`mobman.planning.clearance.avoidance`); it moves the path without moving its end.
 
 A plan reaches its goal (``reached`` in ``--json``) when the algorithm converged (‖K − y_d‖ ≤ ``--tol``), its
 arm joint positions x lie within the robot's joint limits (a plan that ends outside them cannot be executed),
@@ -45,7 +48,14 @@ from mobman.model.robot import MobileManipulator
 from mobman.model.tasks import FunctionTask
 from mobman.planning.algorithms import ALGORITHMS, Options, PlanResult, plan
 from mobman.planning.basis import Fourier
-from mobman.planning.clearance import PairAt, PathClearance, path_clearance
+from mobman.planning.clearance import (
+    GAIN,
+    INFLUENCE,
+    PairAt,
+    PathClearance,
+    avoidance,
+    path_clearance,
+)
 from mobman.planning.endpoint import MAX_HORIZON, PlanningSetting, configuration_path, dexterity
 
 MAX_HARMONICS = 100
@@ -170,6 +180,15 @@ def plan_command(
         "--cover-tolerance",
         help="Cover tolerance of the collision spheres (m, > 0): how far they may reach beyond the robot.",
     ),
+    avoid: bool = typer.Option(
+        False, "--avoid", help="Plan around the --scene's obstacles (null-space term of --algorithm pinv)."
+    ),
+    influence_distance: float = typer.Option(
+        INFLUENCE, "--influence-distance", help="--avoid: pairs closer than this are pushed apart (m, > 0)."
+    ),
+    avoid_gain: float = typer.Option(
+        GAIN, "--avoid-gain", help="--avoid: the gain of the null-space term (1/m², > 0)."
+    ),
 ) -> None:
     """Plan platform controls and arm joint positions that bring the task to --target at time T."""
     if algorithm not in ALGORITHMS:
@@ -180,6 +199,13 @@ def plan_command(
         raise InputError(f"--harmonics must be in 0..{MAX_HARMONICS}, got {harmonics}")
     if not 1 <= max_iterations <= MAX_ITERATIONS:
         raise InputError(f"--max-iterations must be in 1..{MAX_ITERATIONS}, got {max_iterations}")
+    if avoid and scene_path is None:
+        raise InputError("--avoid: needs --scene FILE (the obstacles to plan around)")
+    if avoid and algorithm != "pinv":
+        raise InputError(f"--avoid: works through the null space of --algorithm pinv, got {algorithm!r}")
+    for name, value in (("--influence-distance", influence_distance), ("--avoid-gain", avoid_gain)):
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"{name} must be a finite number > 0, got {value!r}")
     urdf = urdf_options(tip, base, platform, wheels, lock, platform_option)
     robot = load_robot(robot_name, params, urdf)
     model, world = None, None
@@ -217,8 +243,17 @@ def plan_command(
                 "--algorithm extended needs --extension (coordinates of q, e.g. '2, 3+4') for this robot"
             )
         ext = extension_task(text, robot)
+    nullspace = None
+    if avoid and model is not None and world is not None:
+        nullspace = avoidance(setting, model, world, influence_distance, avoid_gain)
     options = Options(
-        algorithm, _step(step), gamma=gamma, tol=tol, max_iterations=max_iterations, extension=ext
+        algorithm,
+        _step(step),
+        gamma=gamma,
+        tol=tol,
+        max_iterations=max_iterations,
+        extension=ext,
+        nullspace=nullspace,
     )
     result = plan(setting, z0, q0, y_d, options)
     end = np.concatenate([q0, result.x])
@@ -245,6 +280,8 @@ def plan_command(
         "reached": bool(result.converged and not beyond),
         "error_history": result.errors,
     }
+    if avoid:
+        report["avoidance"] = {"influence_distance": influence_distance, "gain": avoid_gain}
     clearance = None
     if model is not None and world is not None:
         clearance = path_clearance(model, world, *configuration_path(setting, result.z, q0))

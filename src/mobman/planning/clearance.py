@@ -7,18 +7,39 @@ floor of the scene, and its self-collision pairs) has a signed distance, all sam
 call. Reported: the smallest distance over the pairs and the samples with its pair, time and witness points, and
 the first sample at which some pair penetrates (distance < 0) with its deepest pair. The samples are T/steps
 apart: a contact shorter than that between two samples goes unseen.
+
+:func:`avoidance` is the planners' way around obstacles: the null-space vector of the pseudo-inverse
+algorithm (Tchoń et al. 2002, eq. 16), w(z) = −k ∇_z P(z), with P the clearance penalty of the whole path
+
+    P(z) = ½ Σ_k Σ_pairs max(0, d_i − d_pair(q(t_k)))²,
+
+d_i the influence distance: zero when every pair along the path is farther than d_i, growing as a pair comes
+closer (or penetrates). Projected onto the kernel of the endpoint Jacobian, it moves the path away from the
+obstacles without moving its end, so the planner still reaches its target (to first order).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 import numpy.typing as npt
 
 from mobman import collision
+from mobman.errors import InputError
 from mobman.model.collision_model import CollisionModel
 from mobman.model.scene import Scene
+from mobman.planning.endpoint import PlanningSetting, configuration_path_of
+
+INFLUENCE = 0.2
+"""The default influence distance d_i of :func:`avoidance` (m)."""
+
+GAIN = 10.0
+"""The default gain of :func:`avoidance` (1/m²): on the paper's car plan past a rock (Tchoń et al.'s start P),
+gains 1 and 10 converge around it, 100 no longer converges."""
 
 
 @dataclass(frozen=True)
@@ -71,4 +92,39 @@ def path_clearance(model: CollisionModel, scene: Scene, t: npt.ArrayLike, q: npt
     )
 
 
-__all__ = ["PairAt", "PathClearance", "path_clearance"]
+def clearance_penalty(
+    setting: PlanningSetting,
+    model: CollisionModel,
+    scene: Scene,
+    influence: float,
+    z: jax.Array,
+    q0: jax.Array,
+) -> jnp.ndarray:
+    """P(z) = ½ Σ_k Σ_pairs max(0, d_i − d)² over the path of ``setting`` (module notes), traceable."""
+    q = configuration_path_of(setting, z, q0)
+    d = jax.vmap(lambda qk: collision.distances_one(model, scene, qk)[0])(q)
+    return 0.5 * jnp.sum(jnp.maximum(influence - d, 0.0) ** 2)
+
+
+def avoidance(
+    setting: PlanningSetting,
+    model: CollisionModel,
+    scene: Scene,
+    influence: float = INFLUENCE,
+    gain: float = GAIN,
+) -> Callable[[jax.Array, jax.Array], jnp.ndarray]:
+    """The null-space vector w(z, q0) = −gain ∇_z P(z) (module notes) of the ``"pinv"`` algorithm
+    (``Options(nullspace=...)``), the path integrated with ``setting.jacobian_steps`` steps; ``influence``
+    d_i (m, > 0), ``gain`` (1/m², > 0)."""
+    for name, value in (("influence", influence), ("gain", gain)):
+        if not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
+            raise InputError(f"avoidance: {name} must be a finite number > 0, got {value!r}")
+    coarse = setting.jacobian_setting
+
+    def w(z: jax.Array, q0: jax.Array) -> jnp.ndarray:
+        return -gain * jax.grad(lambda zz: clearance_penalty(coarse, model, scene, influence, zz, q0))(z)
+
+    return w
+
+
+__all__ = ["GAIN", "INFLUENCE", "PairAt", "PathClearance", "avoidance", "clearance_penalty", "path_clearance"]

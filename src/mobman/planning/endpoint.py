@@ -252,6 +252,15 @@ def configuration_path(
     return t, np.concatenate([q_p, np.broadcast_to(np.asarray(x), (len(t), setting.n_joints))], axis=1)
 
 
+def configuration_path_of(setting: PlanningSetting, z: jax.Array, q0: jax.Array) -> jnp.ndarray:
+    """The configurations q(t_k) (steps + 1, n_q) of :func:`configuration_path`, traceable (differentiable in
+    z)."""
+    lam, x = setting.split(z)
+    _, states = _integrate(setting, lambda q, phi: _velocity(setting, q, _control(lam, phi)), q0, record=True)
+    q_p = jnp.concatenate([q0[None], states])
+    return jnp.concatenate([q_p, jnp.broadcast_to(x, (q_p.shape[0], setting.n_joints))], axis=1)
+
+
 def variational_of_task(
     setting: PlanningSetting, task: Task, z: jax.Array, q0: jax.Array, with_mobility: bool
 ) -> Variational:
