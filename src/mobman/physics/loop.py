@@ -248,19 +248,20 @@ def run_on_physics(
     feed = _FeedForward(model, robot) if feedforward and isinstance(robot, DynamicModel) else None
     control = compiled_control(kinematic, task, law, reference)
     n = int(round(duration / control_dt))
+    unstable_at = np.array([int(getattr(mj.mjtWarning, f"mjWARN_{w}")) for w in UNSTABLE])
     ts, qs, etas, rates = [], [], [], []
     sample, samples = None if probe is None else probe(model), []
     stopped = None
     for k in range(n + 1):  # t_0 … t_N = duration, as mobman.control.simulation records
         q = reader.q(data)
         eta = control(q, k * control_dt)
-        if not np.all(np.isfinite(q)) or not np.all(np.isfinite(eta)):
+        if not math.isfinite(q.sum() + eta.sum()):  # a NaN or an infinity anywhere
             stopped = f"t = {k * control_dt:.6g} s: non-finite state or command"
             break
         ts.append(k * control_dt)
         qs.append(q)
         etas.append(eta)
-        rates.append(_platform_rates(model, data, kinematic))
+        rates.append(reader.rates(data))
         if sample is not None:
             samples.append(sample(data))
         if k == n:
@@ -269,8 +270,8 @@ def run_on_physics(
         if feed is not None:
             feed.apply(data, q, eta)
         mj.mj_step(model, data, nstep=substeps)
-        unstable = [w for w in UNSTABLE if data.warning[getattr(mj.mjtWarning, f"mjWARN_{w}")].number]
-        if unstable:
+        if data.warning.number[unstable_at].any():
+            unstable = [w for w, i in zip(UNSTABLE, unstable_at) if data.warning[i].number]
             stopped = (
                 f"t = {k * control_dt:.6g} to {(k + 1) * control_dt:.6g} s: MuJoCo reports an unstable step "
                 f"({', '.join(unstable)}: a non-finite or huge value; MuJoCo reset its state)"
@@ -282,21 +283,3 @@ def run_on_physics(
     return PhysicsRun(
         np.array(ts), q_record, np.array(etas).reshape(len(qs), kinematic.n_eta), slip, stopped, series
     )
-
-
-def _platform_rates(model: Any, data: Any, robot: MobileManipulator) -> np.ndarray:
-    """q̇_p measured: (ẋ, ẏ, θ̇) of the platform frame (and a car's φ̇)."""
-    kind = robot.platform.kind
-    if kind == "fixed":
-        return np.zeros(robot.platform.n_q)
-    if kind == "omnidirectional":
-        return np.array(
-            [data.qvel[model.jnt_dofadr[model.joint(n).id]] for n in robot.platform.actuator_names]
-        )
-    velocity = np.zeros(6)
-    mj = mujoco_module()
-    mj.mj_objectVelocity(model, data, mj.mjtObj.mjOBJ_BODY, model.body("platform").id, velocity, 0)
-    rates = [velocity[3], velocity[4], velocity[2]]
-    if kind == "car":
-        rates.append(data.qvel[model.jnt_dofadr[model.joint("steering_right").id]])
-    return np.array(rates)

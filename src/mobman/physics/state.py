@@ -59,11 +59,19 @@ def measured_q(model: Any, data: Any, robot: MobileManipulator) -> np.ndarray:
 
 
 class StateReader:
-    """:func:`measured_q` of one model, its joints' addresses looked up once (a control loop reads the state
-    at every step)."""
+    """:func:`measured_q` and the platform's measured rates of one model, its joints' addresses looked up
+    once (a control loop reads the state at every step)."""
 
     def __init__(self, model: Any, robot: MobileManipulator) -> None:
+        import mujoco
+
+        self.model, self.mujoco = model, mujoco
         self.n_q, kind = robot.n_q, robot.platform.kind
+        self.kind, self.n_q_p = kind, robot.platform.n_q
+        self.velocity = np.zeros(6)
+        names = robot.platform.actuator_names if kind == "omnidirectional" else ()
+        self.platform_dofs = np.array([model.jnt_dofadr[model.joint(n).id] for n in names], dtype=int)
+        self.steering_dof = model.jnt_dofadr[model.joint("steering_right").id] if kind == "car" else None
         self.arm = np.array(
             [_joint_address(model, name) for name in robot.coordinate_names[robot.n_platform :]], dtype=int
         )
@@ -88,3 +96,16 @@ class StateReader:
             q[3] = data.qpos[self.steering]
         q[self.n_q - self.arm.size :] = data.qpos[self.arm]
         return q
+
+    def rates(self, data: Any) -> np.ndarray:
+        """q̇_p measured: (ẋ, ẏ, θ̇) of the platform frame (and a car's φ̇)."""
+        if self.kind == "fixed":
+            return np.zeros(self.n_q_p)
+        if self.kind == "omnidirectional":
+            return np.array(data.qvel[self.platform_dofs])
+        velocity, mj = self.velocity, self.mujoco
+        mj.mj_objectVelocity(self.model, data, mj.mjtObj.mjOBJ_BODY, self.body, velocity, 0)
+        rates = [velocity[3], velocity[4], velocity[2]]
+        if self.steering_dof is not None:
+            rates.append(data.qvel[self.steering_dof])
+        return np.array(rates)
