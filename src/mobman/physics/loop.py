@@ -77,27 +77,43 @@ UNSTABLE = ("BADQPOS", "BADQVEL", "BADQACC", "BADCTRL")
 
 
 def compiled_control(
-    robot: MobileManipulator, task: Task, law: Law, reference: Reference
+    robot: MobileManipulator,
+    task: Task,
+    law: Law,
+    reference: Reference,
+    feedforward: DynamicModel | None = None,
 ) -> Callable[[np.ndarray, float], np.ndarray]:
     """η = law(q, t, ξ*(t), ξ̇*(t)) for one measured configuration q (n_q,) at time t, as a NumPy array: the
     law and the reference compiled ahead of time into one program (``jax.jit(…).lower(…).compile()``), their
     numbers flattened once, so that a call passes only arrays (no tracing-cache lookup, no pytree walk of
     the law). The program is shared by every law and reference of the same structure (as :func:`jax.jit`'s
-    cache shares it): a new gain or a new line does not compile again."""
+    cache shares it): a new gain or a new line does not compile again. With ``feedforward`` (the robot's
+    :class:`DynamicModel`), the same program also gives τ_ff = B(q)⁻¹ b(q, η) after η: (η, τ_ff) in one
+    array, one call per control step."""
     leaves, tree = jax.tree_util.tree_flatten((law, reference))
     leaves = [jnp.asarray(leaf) for leaf in leaves]
-    program = _control_program(robot, task, tree, tuple((leaf.shape, leaf.dtype) for leaf in leaves))
+    shapes = tuple((leaf.shape, leaf.dtype) for leaf in leaves)
+    program = _control_program(robot, task, tree, shapes, feedforward)
     return lambda q, t: np.asarray(program(leaves, q, t))
 
 
 @lru_cache(maxsize=16)
 def _control_program(
-    robot: MobileManipulator, task: Task, tree: Any, shapes: tuple[tuple[tuple[int, ...], Any], ...]
+    robot: MobileManipulator,
+    task: Task,
+    tree: Any,
+    shapes: tuple[tuple[tuple[int, ...], Any], ...],
+    feedforward: DynamicModel | None,
 ) -> Any:
+    from mobman.dynamics.reduced import inverse_dynamics_one
+
     def control(leaves: list[jax.Array], q: jax.Array, t: jax.Array) -> jax.Array:
         law, reference = jax.tree_util.tree_unflatten(tree, leaves)
         xi_star, xi_star_dot = reference(t)
-        return law(robot, task, q, t, xi_star, xi_star_dot).eta
+        eta = law(robot, task, q, t, xi_star, xi_star_dot).eta
+        if feedforward is None:
+            return eta
+        return jnp.concatenate([eta, inverse_dynamics_one(feedforward, q, eta, jnp.zeros_like(eta))])
 
     arguments = [jax.ShapeDtypeStruct(shape, dtype) for shape, dtype in shapes]
     return jax.jit(control).lower(arguments, jnp.zeros(robot.n_q), jnp.zeros(())).compile()
@@ -123,9 +139,9 @@ def _slip(platform: Platform, q_p: jax.Array, rates: jax.Array) -> jax.Array:
 
 
 class _FeedForward:
-    """τ_ff = B(q)⁻¹ b(q, η) of a :class:`DynamicModel` for each actuator of its MuJoCo model (module
-    docstring): one compiled program per model, its torques written as generalized forces on the actuators'
-    joints, and the servos' force ranges narrowed by them."""
+    """τ_ff = B(q)⁻¹ b(q, η) of a :class:`DynamicModel` (given by the control program,
+    :func:`compiled_control`) written as generalized forces on the joints of its MuJoCo model's actuators,
+    and the servos' force ranges narrowed by them (module docstring)."""
 
     def __init__(self, model: Any, dynamics: DynamicModel) -> None:
         mj = mujoco_module()
@@ -143,10 +159,8 @@ class _FeedForward:
         self.dofs = np.array([model.jnt_dofadr[model.actuator_trnid[i, 0]] for i in ids], dtype=int)
         self.limited = model.actuator_forcelimited[self.ids].astype(bool)
         self.range = np.array(model.actuator_forcerange[self.ids])
-        self.torque = _feedforward_program(dynamics)
 
-    def apply(self, data: Any, q: np.ndarray, eta: np.ndarray) -> None:
-        tau = np.asarray(self.torque(q, eta))
+    def apply(self, data: Any, tau: np.ndarray) -> None:
         tau = np.where(self.limited, np.clip(tau, self.range[:, 0], self.range[:, 1]), tau)
         data.qfrc_applied[self.dofs] = tau
         limited = self.ids[self.limited]
@@ -159,13 +173,6 @@ def _has_actuator(model: Any, name: str) -> bool:
     except KeyError:
         return False
     return True
-
-
-@lru_cache(maxsize=8)
-def _feedforward_program(dynamics: DynamicModel) -> Callable[[np.ndarray, np.ndarray], jax.Array]:
-    from mobman.dynamics.reduced import inverse_dynamics_one
-
-    return jax.jit(lambda q, eta: inverse_dynamics_one(dynamics, q, eta, jnp.zeros_like(eta)))
 
 
 class _Commands:
@@ -245,8 +252,9 @@ def run_on_physics(
     data = mj.MjData(model)
     set_configuration(model, data, kinematic, q0)
     commands, reader = _Commands(model, kinematic), StateReader(model, kinematic)
-    feed = _FeedForward(model, robot) if feedforward and isinstance(robot, DynamicModel) else None
-    control = compiled_control(kinematic, task, law, reference)
+    dynamics = robot if feedforward and isinstance(robot, DynamicModel) else None
+    feed = None if dynamics is None else _FeedForward(model, dynamics)
+    control = compiled_control(kinematic, task, law, reference, dynamics)
     n = int(round(duration / control_dt))
     unstable_at = np.array([int(getattr(mj.mjtWarning, f"mjWARN_{w}")) for w in UNSTABLE])
     ts, qs, etas, rates = [], [], [], []
@@ -254,8 +262,9 @@ def run_on_physics(
     stopped = None
     for k in range(n + 1):  # t_0 … t_N = duration, as mobman.control.simulation records
         q = reader.q(data)
-        eta = control(q, k * control_dt)
-        if not math.isfinite(q.sum() + eta.sum()):  # a NaN or an infinity anywhere
+        command = control(q, k * control_dt)  # η, then τ_ff with a feed-forward
+        eta = command[: kinematic.n_eta]
+        if not math.isfinite(q.sum() + command.sum()):  # a NaN or an infinity anywhere
             stopped = f"t = {k * control_dt:.6g} s: non-finite state or command"
             break
         ts.append(k * control_dt)
@@ -268,7 +277,7 @@ def run_on_physics(
             break
         commands.apply(data, q, eta)
         if feed is not None:
-            feed.apply(data, q, eta)
+            feed.apply(data, command[kinematic.n_eta :])
         mj.mj_step(model, data, nstep=substeps)
         if data.warning.number[unstable_at].any():
             unstable = [w for w, i in zip(UNSTABLE, unstable_at) if data.warning[i].number]
