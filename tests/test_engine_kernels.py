@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import mobman  # noqa: F401  (float64; imports the model, whose definitions register themselves)
+from mobman.control import avoidance  # noqa: F401  (its definition of the nearest pairs registers)
 from mobman.engine import kernels
 from mobman.model import robots, spatial, spectra  # noqa: F401  (spectra: its definitions register)
 
@@ -59,9 +60,23 @@ def _panda_q() -> np.ndarray:
 
 PANDA = robots.panda_differential()
 
+
 # name → (cases: tuples of arguments, index of the argument differentiated, view of the result compared,
 #         map of the differentiated argument before the call)
+def _distances(count: int) -> np.ndarray:
+    """Signed distances as a scene gives them: positive and negative, repeated values, a −0 and a 0."""
+    d = RNG.uniform(-0.2, 3.0, count)
+    d[:6] = [0.5, 0.5, -0.0, 0.0, 0.5, -0.2]
+    return d
+
+
 EXAMPLES = {
+    "mobman.control.avoidance.nearest": (
+        [(_distances(200), 32), (_distances(7), 7), (_distances(1000), 1)],
+        0,
+        lambda out: out[0],
+        None,
+    ),
     "mobman.model.spatial.unstack": (
         [(RNG.normal(size=(4, 3)),), (RNG.normal(size=(2, 3, 5)), 0), (_rotations(2), -2)],
         0,

@@ -207,15 +207,13 @@ def distances_one(
     d_p = norm(between) - radius[i] - radius[j]
     robot_p = centre[i] - radius[i, None] * normal_p
     other_p = centre[j] + radius[j, None] * normal_p
-    # rates: n̂ᵀ (J_i − J_j) S
     jac = centre_jacobians_one(model, q)
-    rows_q = jnp.concatenate(
+    rows = jnp.concatenate(
         [
-            jnp.einsum("pk,pkn->pn", normal_s, jac[scene_sphere]),
-            jnp.einsum("pk,pkn->pn", normal_p, jac[i] - jac[j]),
+            pair_rows_one(model, q, normal_s, scene_sphere, jac=jac),
+            pair_rows_one(model, q, normal_p, i, j, jac),
         ]
     )
-    rows = model.robot.apply_S(rows_q, q)
     return (
         jnp.concatenate([d_s, d_p]),
         jnp.concatenate([robot_s, robot_p]),
@@ -223,6 +221,28 @@ def distances_one(
         jnp.concatenate([normal_s, normal_p]),
         rows,
     )
+
+
+def pair_rows_one(
+    model: CollisionModel,
+    q: jnp.ndarray,
+    normal: jnp.ndarray,
+    first: npt.ArrayLike,
+    second: npt.ArrayLike | None = None,
+    jac: jnp.ndarray | None = None,
+) -> jnp.ndarray:
+    """The rates rows n̂ᵀ (J_first − J_second) S (P', n_eta) over η of the pairs of spheres ``first`` and
+    ``second`` (P',) with normals ``normal`` (P', 3) at one configuration q: J a sphere centre's linear
+    velocity Jacobian (:func:`centre_jacobians_one`, or ``jac`` when already computed); ``second`` None, or
+    −1 in an entry, for a pair whose other side is an obstacle or the floor (it does not move). A controller
+    that keeps a few pairs forms their rows only (:func:`mobman.control.avoidance.dampers`)."""
+    jac = centre_jacobians_one(model, q) if jac is None else jac
+    if second is None:
+        rates = jac[first]
+    else:  # index −1 reads the appended zero Jacobian
+        still = jnp.concatenate([jac, jnp.zeros((1,) + jac.shape[1:], jac.dtype)])
+        rates = still[first] - still[second]
+    return model.robot.apply_S(jnp.einsum("pk,pkn->pn", normal, rates), q)
 
 
 BLOCK = 8
@@ -266,6 +286,7 @@ __all__ = [
     "distances",
     "distances_one",
     "pair_names",
+    "pair_rows_one",
     "pair_spheres",
     "point_distances",
 ]

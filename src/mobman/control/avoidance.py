@@ -31,6 +31,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from mobman import collision
+from mobman.engine.kernels import definition
 from mobman.model.collision_model import CollisionModel, collision_model, default_pairs
 from mobman.model.scene import Scene
 
@@ -60,6 +61,13 @@ class Dampers(NamedTuple):
     pair: jax.Array
 
 
+@definition
+def nearest(distance: jax.Array, count: int) -> tuple[jax.Array, jax.Array]:
+    """The ``count`` smallest entries of ``distance`` (P,), ascending, and their indices (ties by index)."""
+    negated, index = jax.lax.top_k(-distance, count)
+    return -negated, index
+
+
 def dampers(
     model: CollisionModel,
     scene: Scene,
@@ -72,12 +80,13 @@ def dampers(
     """The velocity dampers ḋ ≥ −ξ (d − d_s)/(d_i − d_s) (module notes) of the ``count`` nearest pairs of
     ``model`` and ``scene`` at one configuration q (traced code), d_s = ``margin``, d_i = ``influence``,
     ξ = ``gain``."""
-    distance, _, _, _, rows = collision.distances_one(model, scene, q)
-    nearest_first, index = jax.lax.top_k(-distance, min(count, distance.shape[0]))
-    d = -nearest_first
+    distance, _, _, normal, _ = collision.distances_one(model, scene, q)  # the rows of every pair unused
+    d, index = nearest(distance, min(count, distance.shape[0]))
     active = d < influence
     bound = jnp.where(active, -gain * (d - margin) / (influence - margin), -1.0)
-    return Dampers(jnp.where(active[:, None], rows[index], 0.0), bound, active, d[0], index[0])
+    first, second = (jnp.asarray(s)[index] for s in collision.pair_spheres(model, scene))
+    rows = collision.pair_rows_one(model, q, normal[index], first, second)
+    return Dampers(jnp.where(active[:, None], rows, 0.0), bound, active, d[0], index[0])
 
 
 def start_collision(model: CollisionModel, scene: Scene, q0: np.ndarray, margin: float) -> dict | None:
@@ -105,4 +114,4 @@ def target_inside(scene: Scene, point: np.ndarray) -> dict | None:
     return {"obstacle": scene.names[deepest], "depth": float(-phi[deepest])}
 
 
-__all__ = ["Dampers", "dampers", "start_collision", "target_inside"]
+__all__ = ["Dampers", "dampers", "nearest", "start_collision", "target_inside"]

@@ -13,9 +13,18 @@
 - The drop-ins: :mod:`~mobman.engine.products` (written-out small products, constants as scalars, Rodrigues'
   formula), :mod:`~mobman.engine.linalg` (the batched Jacobi eigensolver), :mod:`~mobman.engine.extremes`
   (a batch's extreme eigenvalues and determinants, for the manipulability measures),
-  :mod:`~mobman.engine.frame_rule` (the closed-form derivative of a frame's Jacobians).
+  :mod:`~mobman.engine.frame_rule` (the closed-form derivative of a frame's Jacobians),
+  :mod:`~mobman.engine.selection` (the k smallest of a long vector without sorting it, for the collision
+  dampers).
 
 Importing the package registers every drop-in.
 """
 
-from mobman.engine import extremes, frame_rule, fusion, linalg, products  # noqa: F401  (registers the drop-ins)
+from mobman.engine import (  # noqa: F401  (registers the drop-ins)
+    extremes,
+    frame_rule,
+    fusion,
+    linalg,
+    products,
+    selection,
+)
