@@ -12,12 +12,14 @@ and compiling the MuJoCo model (once per run), and the rest (reading the measure
 commands, the record), each as a share of the run and as the realtime factor it alone would allow; the parts
 are timed apart from the run, in interleaved rounds (the best of each). The end point is compared with the kinematic run of the
 same law at the same control rate (``integrator="hold"``). No timing is asserted; the numbers depend on the
-machine and on what else runs on it.
+machine and on what else runs on it. The run sets its CPU affinity to one core first (the target is
+stated for one core; JAX's threads, started later, follow it).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -45,6 +47,8 @@ def main(argv=None) -> int:
     parser.add_argument("--duration", type=float, default=None, help="simulated seconds (default the spec's)")
     parser.add_argument("--smoke", action="store_true", help="a short run for CI")
     args = parser.parse_args(argv)
+    if hasattr(os, "sched_setaffinity"):  # on one core, as the target is stated; XLA's threads follow it
+        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
     parsed = spec.load(SPEC)
     duration = 0.5 if args.smoke else (args.duration or parsed.duration)
     model = urdf_model("tiago")
