@@ -550,6 +550,13 @@ def test_a_mimic_joint_of_an_arm_coordinate_off_the_chain_follows_it_as_pinocchi
     robot = model.robot
     (follower,) = robot.followers
     assert (follower.leader, follower.multiplier, follower.parent) == (3, 0.5, (-1, 0))
+    (described,) = robot.describe()["followers"]
+    assert described == {
+        "joint": "torso_lift_joint",
+        "leader": "arm_lift_joint",
+        "multiplier": 0.5,
+        "offset": pytest.approx(0.01),
+    }
     pin_model = pinocchio.buildModelFromUrdf(str(path), mimic=True)
     data = pin_model.createData()
     q = _configurations(32, robot.n_q, 4)

@@ -12,7 +12,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property, partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import jax
 import jax.numpy as jnp
@@ -500,8 +500,9 @@ class MobileManipulator:
         return jnp.concatenate([blocks[0], *arms], axis=-1)
 
     def describe(self) -> dict:
-        """A JSON-friendly description: name, parameters, coordinates, controls, limits."""
-        return {
+        """A JSON-friendly description: name, parameters, coordinates, controls, limits (and the followers,
+        where the robot has some: each joint, the coordinate it follows, the multiplier and the offset)."""
+        out: dict[str, Any] = {
             "name": self.name,
             "parameters": dict(self.parameters),
             "platform": type(self.platform).__name__,
@@ -512,6 +513,17 @@ class MobileManipulator:
             "M": self.n_q,
             "delta": self.n_eta,
         }
+        if self.followers:
+            out["followers"] = [
+                {
+                    "joint": f.joint.name,
+                    "leader": self.coordinate_names[f.leader],
+                    "multiplier": f.multiplier,
+                    "offset": f.joint.offset,
+                }
+                for f in self.followers
+            ]
+        return out
 
 
 def actuator_names(robot: MobileManipulator) -> tuple[str, ...]:
