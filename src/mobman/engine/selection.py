@@ -19,7 +19,8 @@ _MAGNITUDE = 0x7FFFFFFFFFFFFFFF
 
 
 def ordered_keys(values: jax.Array) -> jax.Array:
-    """int64 keys in the order of the float64 ``values`` (−0 just below +0; NaNs past ±inf)."""
+    """int64 keys in the order of the float64 ``values`` (−0 just below +0; a NaN beyond the infinity of its
+    sign bit)."""
     bits = jax.lax.bitcast_convert_type(values.astype(jnp.float64), jnp.int64)
     return bits ^ ((bits >> 63) & jnp.int64(_MAGNITUDE))
 
