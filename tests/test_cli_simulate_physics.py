@@ -122,6 +122,7 @@ def test_tiago_qp_slow_on_high_friction_ends_at_the_kinematic_end_point(tmp_path
         fed, _tiago() + "feedforward = true\n", capsys, "--physics", "mujoco", "--tolerance", "0.05"
     )
     assert code == 0
+    assert [r["metrics"]["feedforward"] for r in (results, with_ff)] == [False, True]
     deviation = [r["metrics"]["kinematic_deviation_max"] for r in (results, with_ff)]
     assert deviation[1] < 0.25 * deviation[0]
     # the torques recorded are the actuators' (servo and feed-forward): at the end, at rest, the same weight

@@ -192,6 +192,7 @@ def physics_metrics(settings: PhysicsSettings, series: dict[str, np.ndarray], pl
         "control_rate": settings.control_rate,
         "friction": settings.friction,
         "payload": settings.payload,
+        "feedforward": settings.feedforward,
         "slip_lateral_median": _stat(series["slip_lateral"], np.median),
         "slip_lateral_max": _stat(series["slip_lateral"], np.max),
         "slip_longitudinal_median": _stat(series["slip_longitudinal"], np.median),
