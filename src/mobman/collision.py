@@ -92,6 +92,18 @@ def _layout(model: CollisionModel, scene: Scene) -> dict:
                 np.array([o.size + (0.0,) * (3 - len(o.size)) for o in obstacles]),
             )
     pairs = np.array(model.sphere_pairs, dtype=int).reshape(-1, 2)
+    # the self pairs as blocks of spheres: body a's spheres × body b's, contiguous once the spheres are
+    # grouped by body (a stable sort keeps each body's order), in the order of ``sphere_pairs``
+    body = np.array([bodies[s.body] for s in spheres])
+    grouped = np.argsort(body, kind="stable")
+    start, end = np.searchsorted(body[grouped], np.arange(len(bodies))), np.searchsorted(
+        body[grouped], np.arange(len(bodies)), side="right"
+    )
+    blocks = tuple(
+        (int(start[a]), int(end[a]), int(start[b]), int(end[b]))
+        for a, b in model.pairs
+        if end[a] > start[a] and end[b] > start[b]
+    )
     return dict(
         body=np.array([bodies[s.body] for s in spheres]),
         centre=np.array([s.centre for s in spheres]),
@@ -100,6 +112,8 @@ def _layout(model: CollisionModel, scene: Scene) -> dict:
         floor=arm_spheres if scene.floor is not None else np.zeros(0, dtype=int),
         floor_height=0.0 if scene.floor is None else scene.floor,
         pairs=pairs,
+        grouped=grouped,
+        blocks=blocks,
     )
 
 
@@ -200,13 +214,14 @@ def distances_one(
     phi_s, point_s, normal_s = jnp.concatenate(phis), jnp.concatenate(points), jnp.concatenate(normals)
     d_s = phi_s - radius[scene_sphere]
     robot_s = centre[scene_sphere] - radius[scene_sphere, None] * normal_s
-    # self pairs: sphere i (robot) and sphere j (other)
+    # self pairs: sphere i (robot) and sphere j (other), body block by body block (no gathers)
     i, j = layout["pairs"].T
-    between = centre[i] - centre[j]
+    (c_i, c_j), (r_i, r_j) = _self_blocks(centre, layout), _self_blocks(radius[:, None], layout)
+    between = c_i - c_j
     normal_p = unit(between, jnp.array([0.0, 0.0, 1.0], dtype))
-    d_p = norm(between) - radius[i] - radius[j]
-    robot_p = centre[i] - radius[i, None] * normal_p
-    other_p = centre[j] + radius[j, None] * normal_p
+    d_p = norm(between) - r_i[:, 0] - r_j[:, 0]
+    robot_p = c_i - r_i * normal_p
+    other_p = c_j + r_j * normal_p
     jac = centre_jacobians_one(model, q)
     rows = jnp.concatenate(
         [
@@ -221,6 +236,20 @@ def distances_one(
         jnp.concatenate([normal_s, normal_p]),
         rows,
     )
+
+
+def _self_blocks(per_sphere: jnp.ndarray, layout: dict) -> tuple[jnp.ndarray, jnp.ndarray]:
+    """``per_sphere`` (n_s, k) of the first and of the second sphere of every self pair (P_self, k), in the
+    order of ``sphere_pairs``: each block of body a's spheres × body b's broadcast, not gathered."""
+    grouped = per_sphere[layout["grouped"]]
+    k = per_sphere.shape[1]
+    first, second = [], []
+    for a0, a1, b0, b1 in layout["blocks"]:
+        shape = (a1 - a0, b1 - b0, k)
+        first.append(jnp.broadcast_to(grouped[a0:a1, None], shape).reshape(-1, k))
+        second.append(jnp.broadcast_to(grouped[None, b0:b1], shape).reshape(-1, k))
+    empty = jnp.zeros((0, k), per_sphere.dtype)
+    return jnp.concatenate(first) if first else empty, jnp.concatenate(second) if second else empty
 
 
 def pair_rows_one(
