@@ -96,8 +96,9 @@ def _layout(model: CollisionModel, scene: Scene) -> dict:
     # grouped by body (a stable sort keeps each body's order), in the order of ``sphere_pairs``
     body = np.array([bodies[s.body] for s in spheres])
     grouped = np.argsort(body, kind="stable")
-    start, end = np.searchsorted(body[grouped], np.arange(len(bodies))), np.searchsorted(
-        body[grouped], np.arange(len(bodies)), side="right"
+    start, end = (
+        np.searchsorted(body[grouped], np.arange(len(bodies))),
+        np.searchsorted(body[grouped], np.arange(len(bodies)), side="right"),
     )
     blocks = tuple(
         (int(start[a]), int(end[a]), int(start[b]), int(end[b]))
