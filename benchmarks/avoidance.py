@@ -26,7 +26,6 @@ over mobman's; no timing is asserted.
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -39,7 +38,7 @@ from mobman.control.laws.qp import SLACK_WEIGHT, bounds
 
 from collision import Reference
 from real_robots import pinocchio_q
-from timing import best_time
+from timing import best_time, law_options, one_per_call
 
 SPEC = Path(__file__).resolve().parents[1] / "docs" / "examples" / "tiago_avoid.toml"
 AGREEMENT = 1e-6
@@ -115,13 +114,7 @@ class Controller:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--configurations", type=int, default=64, help="law evaluations timed per call")
-    parser.add_argument("--batch", type=int, default=64, help="runs of the spec simulated in one call")
-    parser.add_argument("--smoke", action="store_true", help="tiny sizes for CI")
-    args = parser.parse_args(argv)
-    if args.smoke:
-        args.configurations, args.batch = 4, 2
+    args = law_options(__doc__.splitlines()[0], argv)
     parsed = spec.load(SPEC)
     robot, task, law = parsed.robot, parsed.task, parsed.law
     run = parsed.simulate()
@@ -131,13 +124,7 @@ def main(argv=None) -> int:
     rng = np.random.default_rng(0)
     xi_dot = rng.normal(size=(len(q), task.dim)) * 0.3
     evaluate = jax.jit(lambda qq, xs, xsd: law(robot, task, qq, 0.0, xs, xsd).eta)
-    ours = np.stack([np.asarray(evaluate(qi, x, d)) for qi, x, d in zip(q, xi, xi_dot)])
-
-    def per_call():
-        for qi, x, d in zip(q, xi, xi_dot):
-            evaluate(qi, x, d).block_until_ready()
-
-    t_call = best_time(per_call, 3) / len(q)
+    ours, t_call = one_per_call(evaluate, q, xi, xi_dot)
 
     spheres = law.collision_model(robot)
     controller = Controller(Reference(robot, spheres, law.scene), law, robot)

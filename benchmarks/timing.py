@@ -20,6 +20,7 @@ the compiler's output, which change with the JAX version, so they are printed he
 
 from __future__ import annotations
 
+import argparse
 import math
 import os
 import re
@@ -53,6 +54,35 @@ def best_time(fn: Callable[[], object], repeat: int) -> float:
         jax.block_until_ready(fn())
         best = min(best, time.perf_counter() - t0)
     return best
+
+
+def law_options(description: str, argv: list[str] | None) -> argparse.Namespace:
+    """The options of a control-law benchmark against a per-step peer (whole_body_qp.py, avoidance.py):
+    ``--configurations`` (law evaluations timed per call), ``--batch`` (runs simulated in one call) and
+    ``--smoke`` (tiny sizes, for CI)."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--configurations", type=int, default=64, help="law evaluations timed per call")
+    parser.add_argument("--batch", type=int, default=64, help="runs of the spec simulated in one call")
+    parser.add_argument("--smoke", action="store_true", help="tiny sizes for CI")
+    args = parser.parse_args(argv)
+    if args.smoke:
+        args.configurations, args.batch = 4, 2
+    return args
+
+
+def one_per_call(evaluate: Callable, *columns) -> tuple[object, float]:
+    """``evaluate`` (compiled) on each row of ``columns``, one call per row, each result waited for: the
+    results stacked (NumPy) and the best time per call over three rounds (the latency a controller sees)."""
+    import numpy as np
+
+    rows = list(zip(*columns))
+    results = np.stack([np.asarray(evaluate(*row)) for row in rows])
+
+    def calls() -> None:
+        for row in rows:
+            jax.block_until_ready(evaluate(*row))
+
+    return results, best_time(calls, 3) / len(rows)
 
 
 def compiled_text(fn: Callable, *args) -> str:

@@ -22,7 +22,6 @@ mobman's; no timing is asserted.
 
 from __future__ import annotations
 
-import argparse
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -35,7 +34,7 @@ from mobman.control import laws, simulate, spec
 from mobman.control.laws.qp import bounds
 
 from real_robots import pinocchio_model, pinocchio_q
-from timing import best_time
+from timing import best_time, law_options, one_per_call
 
 SPEC = Path(__file__).resolve().parents[1] / "docs" / "examples" / "tiago_limits.toml"
 AGREEMENT = 1e-6
@@ -59,13 +58,7 @@ def reference_eta(model, data, frame, q_pin, q, u, limits, gain, mu):
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--configurations", type=int, default=64, help="law evaluations timed per call")
-    parser.add_argument("--batch", type=int, default=64, help="runs of the spec simulated in one call")
-    parser.add_argument("--smoke", action="store_true", help="tiny sizes for CI")
-    args = parser.parse_args(argv)
-    if args.smoke:
-        args.configurations, args.batch = 4, 2
+    args = law_options(__doc__.splitlines()[0], argv)
     parsed = spec.load(SPEC)
     robot, task = parsed.robot, parsed.task
     qp = replace(parsed.law, criterion=None)  # the reference's program has no self-motion
@@ -80,13 +73,7 @@ def main(argv=None) -> int:
     xi_dot = rng.normal(size=(len(q), 6)) * 0.5
     xi = np.asarray(run.xi[pick])
     evaluate = jax.jit(lambda qq, xs, xsd: qp(robot, task, qq, 0.0, xs, xsd).eta)
-    ours = np.stack([np.asarray(evaluate(qi, x, d)) for qi, x, d in zip(q, xi, xi_dot)])
-
-    def per_call():
-        for qi, x, d in zip(q, xi, xi_dot):
-            evaluate(qi, x, d).block_until_ready()
-
-    t_call = best_time(per_call, 3) / len(q)
+    ours, t_call = one_per_call(evaluate, q, xi, xi_dot)
 
     model = pinocchio_model(robot)
     data = model.createData()
