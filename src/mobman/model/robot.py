@@ -81,7 +81,8 @@ class Follower:
     HSR's torso rises with its arm lift at half its travel). ``joint`` is that joint (its ``origin`` in the
     frame of the ``parent`` body, its ``visuals`` the shapes of the body), moved by the motion variable
     ``multiplier · q[leader] + joint.offset`` (URDF's mimic: multiplier · q_leader + offset); ``leader`` is the
-    coordinate's index in q. A follower carries no coordinate of its own, so it adds no column to J̄; its mass,
+    coordinate's index in q. The joint's ``lower`` and ``upper`` are the URDF's limits of that motion variable,
+    kept to write the joint back (nothing moves it there: it follows). A follower carries no coordinate of its own, so it adds no column to J̄; its mass,
     where it has one, stays in the body it hangs from (the dynamics of a real robot keep it there, at the
     posture where the leader is 0)."""
 
