@@ -146,7 +146,8 @@ class _FeedForward:
     def __init__(self, model: Any, dynamics: DynamicModel) -> None:
         mj = mujoco_module()
         names = actuator_names(dynamics.robot)
-        ids = [model.actuator(name).id if _has_actuator(model, name) else -1 for name in names]
+        known = {model.actuator(i).name: i for i in range(model.nu)}
+        ids = [known.get(name, -1) for name in names]
         joint = int(mj.mjtTrn.mjTRN_JOINT)
         unsupported = [n for n, i in zip(names, ids) if i < 0 or int(model.actuator_trntype[i]) != joint]
         if unsupported:
@@ -165,14 +166,6 @@ class _FeedForward:
         data.qfrc_applied[self.dofs] = tau
         limited = self.ids[self.limited]
         self.model.actuator_forcerange[limited] = self.range[self.limited] - tau[self.limited, None]
-
-
-def _has_actuator(model: Any, name: str) -> bool:
-    try:
-        model.actuator(name)
-    except KeyError:
-        return False
-    return True
 
 
 class _Commands:
