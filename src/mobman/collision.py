@@ -195,11 +195,11 @@ def distances_one(
     point = jnp.zeros((n_s, n_o, 3), dtype)
     normal = jnp.zeros((n_s, n_o, 3), dtype)
     for shape, (index, rotation, position, size) in layout["groups"].items():
-        local = jnp.einsum("oji,soj->soi", rotation, centre[:, None, :] - position)  # Rᵀ (c − p)
+        local = _rotate(np.swapaxes(rotation, 1, 2), centre[:, None, :] - position)  # Rᵀ (c − p)
         f, p_local, n_local = _SHAPE_DISTANCE[shape](local, jnp.broadcast_to(jnp.asarray(size), local.shape))
         phi = phi.at[:, index].set(f)
-        point = point.at[:, index].set(jnp.einsum("oij,soj->soi", rotation, p_local) + position)
-        normal = normal.at[:, index].set(jnp.einsum("oij,soj->soi", rotation, n_local))
+        point = point.at[:, index].set(_rotate(rotation, p_local) + position)
+        normal = normal.at[:, index].set(_rotate(rotation, n_local))
     sphere_index = [np.repeat(np.arange(n_s), n_o)]
     phis, points, normals = [phi.reshape(-1)], [point.reshape(-1, 3)], [normal.reshape(-1, 3)]
     # robot–floor
@@ -239,6 +239,12 @@ def distances_one(
     )
 
 
+def _rotate(rotation: np.ndarray, v: jnp.ndarray) -> jnp.ndarray:
+    """R v for constant rotations ``rotation`` (n_o, 3, 3) and vectors v (..., n_o, 3), component by component
+    (a sum of three products each, which XLA fuses with the primitive distances that use them)."""
+    return jnp.stack([sum(rotation[:, i, j] * v[..., j] for j in range(3)) for i in range(3)], -1)
+
+
 def _self_blocks(per_sphere: jnp.ndarray, layout: dict) -> tuple[jnp.ndarray, jnp.ndarray]:
     """``per_sphere`` (n_s, k) of the first and of the second sphere of every self pair (P_self, k), in the
     order of ``sphere_pairs``: each block of body a's spheres × body b's broadcast, not gathered."""
@@ -267,12 +273,14 @@ def pair_rows_one(
     −1 in an entry, for a pair whose other side is an obstacle or the floor (it does not move). A controller
     that keeps a few pairs forms their rows only (:func:`mobman.control.avoidance.dampers`)."""
     jac = centre_jacobians_one(model, q) if jac is None else jac
-    if second is None:
-        rates = jac[first]
-    else:  # index −1 reads the appended zero Jacobian
-        still = jnp.concatenate([jac, jnp.zeros((1,) + jac.shape[1:], jac.dtype)])
-        rates = still[first] - still[second]
-    return model.robot.apply_S(jnp.einsum("pk,pkn->pn", normal, rates), q)
+    # J̄_c = J_c S per sphere (n_s, 3, n_eta), then per pair Σ_k n̂_k (J̄_first − J̄_second)_k
+    reduced = jax.vmap(lambda j: model.robot.apply_S(j, q))(jac)
+    if second is not None:  # index −1 reads the appended zero Jacobian
+        reduced = jnp.concatenate([reduced, jnp.zeros((1,) + reduced.shape[1:], reduced.dtype)])
+    return sum(
+        normal[:, k, None] * (reduced[first, k] if second is None else reduced[first, k] - reduced[second, k])
+        for k in range(3)
+    )
 
 
 BLOCK = 8
