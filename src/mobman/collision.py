@@ -277,10 +277,11 @@ def pair_rows_one(
     reduced = jax.vmap(lambda j: model.robot.apply_S(j, q))(jac)
     if second is not None:  # index −1 reads the appended zero Jacobian
         reduced = jnp.concatenate([reduced, jnp.zeros((1,) + reduced.shape[1:], reduced.dtype)])
-    return sum(
+    x, y, z = (
         normal[:, k, None] * (reduced[first, k] if second is None else reduced[first, k] - reduced[second, k])
         for k in range(3)
     )
+    return x + y + z
 
 
 BLOCK = 8
