@@ -1,6 +1,6 @@
 """mobman.planning.batch: a batch of problems gives each problem's single solve (final z, status, iterations,
-error history), converged or not, also when the problems still running are gathered into fewer blocks round
-after round; unbatched arguments broadcast, one problem read back as a PlanResult, and the batch's shape
+error history), converged or not, also when lanes take the next problems as theirs stop, over several calls
+and cores; unbatched arguments broadcast, one problem read back as a PlanResult, and the batch's shape
 errors."""
 
 from __future__ import annotations
@@ -57,15 +57,19 @@ def test_problems_that_do_not_converge_are_their_single_solves(setting, problems
     _assert_single_solves(setting, batch, z0, Q0, targets, options)
 
 
-def test_running_problems_are_gathered_into_full_blocks(setting, problems, monkeypatch):
-    """Five problems in blocks of two: three blocks, then fewer as problems converge at different iterations
-    (the last block padded with repeats of its problems); each result is still its single solve."""
+def test_lanes_take_the_next_problems_across_calls_and_cores(setting, problems, monkeypatch):
+    """Five problems dealt to two loops of two lanes, three iterations per compiled call: lanes are refilled
+    as problems stop at different iterations, the loops resume from call to call, and each result is still
+    its single solve."""
     z0, targets, options = problems
     monkeypatch.setattr(batch_module, "BLOCK", 2)
+    monkeypatch.setattr(batch_module, "ROUNDS", 3)
+    monkeypatch.setattr(batch_module, "WORKERS", 2)
     q0 = np.concatenate([Q0, Q0[:2]])
     more = np.concatenate([targets, targets[1:] + np.array([0.0, 0.0, 0.1])])
     batch = plan_batch(setting, z0, q0, more, options)
     assert batch.success_rate == 1.0 and len(set(batch.iterations.tolist())) > 1
+    assert batch.iterations.max() > batch_module.ROUNDS  # the loops went on over several calls
     _assert_single_solves(setting, batch, z0, q0, more, options)
 
 

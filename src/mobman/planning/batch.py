@@ -1,9 +1,11 @@
-"""Many planning problems at once (Tchoń et al. 2002 §3 for each): blocks of problems advanced together.
+"""Many planning problems at once (Tchoń et al. 2002 §3 for each): lanes of problems advanced together.
 
 A ``vmap`` of the whole ``while_loop`` would compute every problem until the slowest one stops (at the cap,
-while most converge in a few iterations). Here a compiled call makes one :func:`iteration` of a block of
-:data:`BLOCK` problems (``vmap`` over problems); after each round the problems still running are gathered into
-full blocks again, and a round's blocks run on the cores. Each problem goes through the same iterations as
+while most converge in a few iterations). Here a block of :data:`BLOCK` lanes makes one :func:`iteration` of
+the problem each holds (``vmap`` over lanes) inside one compiled loop; a lane whose problem stops writes its
+result and takes the next problem not yet started, so the lanes stay full until the last problems. The loop
+runs :data:`ROUNDS` iterations per call (Python sees the progress and a Ctrl-C between calls), and the
+problems are dealt to one such loop per core. Each problem goes through the same iterations as
 :func:`mobman.planning.algorithms.plan`, so its status, iterations, z and error history are the same."""
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import functools
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import partial
+from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -68,21 +71,67 @@ class BatchResult:
 
 
 BLOCK = 8
-"""Problems one compiled call advances together (fewer when the batch is smaller): vectorised over 4 to 32
-problems, an iteration costs about half its one-problem time per problem on the CPU; wider blocks outgrow
-the caches (benchmarks/planning.py)."""
+"""Lanes one compiled loop advances together (fewer when the batch is smaller): vectorised over 8 problems an
+iteration costs about 0.45 of its one-problem time per problem on the CPU; 4, 6, 7, 9, 10 and 12 lanes were
+slower per problem (benchmarks/planning.py)."""
+
+ROUNDS = 64
+"""Iterations of the lanes per compiled call (about 0.2 s for 8 lanes of the §4 problems)."""
 
 
-@partial(jax.jit, static_argnums=(0, 1))
-def _advance(setting, kernel, state, q0, y_d, *arguments):
-    """One iteration of each problem of a block (vmap over problems only: the algorithm and the step mode
-    stay unbatched, so their branches are real ``lax.switch``/``lax.cond``)."""
-    return jax.vmap(lambda s, q, y: iteration(setting, kernel, q, y, *arguments)(s))(state, q0, y_d)
+class _Lanes(NamedTuple):
+    """The loop's carry: the problem each lane holds (``size``: none), the lanes' states, every problem's
+    final state (written when it stops) and the next problem to start."""
+
+    problem: jax.Array
+    state: Plan
+    out: Plan
+    following: jax.Array
+
+
+@partial(jax.jit, static_argnums=(0, 1, 2))
+def _rounds(setting, kernel, rounds, lanes, size, z0, q0, y_d, *arguments):
+    """Up to ``rounds`` iterations of every lane holding a problem (module docstring): the first
+    ``size`` problems of z0, q0, y_d are real, the rest pad them to :func:`_capacity`."""
+    start = jax.vmap(lambda z: initial_state(kernel, z))
+
+    def advance(lanes: _Lanes) -> _Lanes:
+        held = lanes.problem < size
+        index = jnp.where(held, lanes.problem, 0)
+        state = jax.vmap(lambda s, q, y: iteration(setting, kernel, q, y, *arguments)(s))(
+            lanes.state, q0[index], y_d[index]
+        )
+        stopped = held & (state.status != RUNNING)
+        out = jax.tree.map(
+            lambda o, s: o.at[jnp.where(stopped, lanes.problem, o.shape[0])].set(s, mode="drop"),
+            lanes.out,
+            state,
+        )
+        # the stopped lanes take the next problems in order
+        fresh = lanes.following + jnp.cumsum(stopped) - 1
+        problem = jnp.where(stopped, jnp.where(fresh < size, fresh, size), lanes.problem)
+        loaded = start(z0[jnp.where(problem < size, problem, 0)])
+        state = jax.tree.map(
+            lambda a, b: jnp.where(stopped.reshape((-1,) + (1,) * (a.ndim - 1)), b, a), state, loaded
+        )
+        return _Lanes(problem, state, out, lanes.following + jnp.sum(stopped))
+
+    def running(carry: tuple[_Lanes, jax.Array]) -> jax.Array:
+        lanes, k = carry
+        return jnp.any(lanes.problem < size) & (k < rounds)
+
+    lanes, _ = jax.lax.while_loop(running, lambda c: (advance(c[0]), c[1] + 1), (lanes, jnp.asarray(0)))
+    return lanes
+
+
+def _capacity(size: int) -> int:
+    """The padded number of problems of a share: the next power of two (a program per size class)."""
+    return 1 << max(size - 1, 0).bit_length()
 
 
 @functools.cache
 def _pool() -> ThreadPoolExecutor:
-    """The threads that run a round's blocks, one per core (XLA releases the GIL while it computes)."""
+    """The threads that run the shares, one per core (XLA releases the GIL while it computes)."""
     return ThreadPoolExecutor(WORKERS, thread_name_prefix="mobman-plan-batch")
 
 
@@ -94,8 +143,7 @@ def plan_batch(
     options: Options = Options(),
 ) -> BatchResult:
     """Solve K_{q0,T}(z) = y_d for a batch: z0 (B, n_z), q0 (B, n_p), y_d (B, r), or any of them unbatched
-    (broadcast). Rounds of one iteration of every problem still running, in blocks (module docstring), until
-    every problem has stopped."""
+    (broadcast). The problems are dealt to one loop of lanes per core (module docstring)."""
     names = ("z0", "q0", "y_d")
     arrays = z0, q0, y_d = check_sizes(setting, z0, q0, y_d)
     sizes = {a.shape[0] for a in arrays if a.ndim == 2}
@@ -109,25 +157,26 @@ def plan_batch(
     size = max(sizes, default=1)
     z0, q0, y_d = (np.broadcast_to(a, (size, a.shape[-1])) for a in (z0, q0, y_d))
     kernel, arguments = options.kernel, options.arguments()
-    first = initial_state(kernel, jnp.zeros(setting.n_z))
-    # the state of every problem (the fields of Plan: z, status, iterations, errors, thetas), in NumPy
-    state = [z0.copy(), *(np.array(np.broadcast_to(np.asarray(a), (size,) + a.shape)) for a in first[1:])]
-    block = min(BLOCK, size)
+    # a share per core once each fills its lanes, dealt in turn (neighbouring problems are often alike)
+    shares = max(1, min(WORKERS, size // BLOCK))
+    dealt = [np.arange(k, size, shares) for k in range(shares)]
 
-    def advance(lanes: np.ndarray) -> list[np.ndarray]:
-        padded = np.resize(lanes, block)  # a short last block repeats its problems
-        block_state = Plan(*(jnp.asarray(a[padded]) for a in state))
-        out = _advance(setting, kernel, block_state, q0[padded], y_d[padded], *arguments)
-        return [np.asarray(b)[: lanes.size] for b in out]
+    def solve(problems: np.ndarray) -> list[np.ndarray]:
+        """The final z, status, iterations, errors and thetas of ``problems`` (indices into the batch)."""
+        n, lanes = problems.size, min(BLOCK, problems.size)
+        padded = np.resize(problems, _capacity(n))  # the padding is never started
+        z, q, y = (jnp.asarray(a[padded]) for a in (z0, q0, y_d))
+        start = jax.vmap(lambda zz: initial_state(kernel, zz))
+        carry = _Lanes(jnp.arange(lanes), start(z[:lanes]), start(z), jnp.asarray(lanes))
+        while True:
+            carry = _rounds(setting, kernel, ROUNDS, carry, n, z, q, y, *arguments)
+            if not bool(jnp.any(carry.problem < n)):
+                return [np.asarray(a)[:n] for a in carry.out]
 
-    running = np.arange(size)
-    while running.size:
-        blocks = [running[i : i + block] for i in range(0, running.size, block)]
-        outs = list(_pool().map(advance, blocks)) if len(blocks) > 1 else [advance(blocks[0])]
-        for lanes, out in zip(blocks, outs):
-            for a, b in zip(state, out):
-                a[lanes] = b
-        running = running[state[1][running] == RUNNING]
-    z, status, iterations, errors, _ = state
+    outs = list(_pool().map(solve, dealt)) if shares > 1 else [solve(dealt[0])]
+    z, status, iterations, errors, thetas = (np.empty((size,) + a.shape[1:], a.dtype) for a in outs[0])
+    for problems, out in zip(dealt, outs):
+        for whole, part in zip((z, status, iterations, errors, thetas), out):
+            whole[problems] = part
     final = errors[np.arange(size), iterations]
     return BatchResult(z, [STATUS[int(s)] for s in status], iterations, final, errors)
