@@ -26,6 +26,7 @@ from mobman.errors import InputError
 from mobman.planning.algorithms import (
     RUNNING,
     STATUS,
+    Kernel,
     Options,
     Plan,
     PlanResult,
@@ -92,8 +93,9 @@ class _Lanes(NamedTuple):
 @partial(jax.jit, static_argnums=(0, 1, 2))
 def _rounds(setting, kernel, rounds, lanes, size, z0, q0, y_d, *arguments):
     """Up to ``rounds`` iterations of every lane holding a problem (module docstring): the first
-    ``size`` problems of z0, q0, y_d are real, the rest pad them to :func:`_capacity`."""
-    start = jax.vmap(lambda z: initial_state(kernel, z))
+    ``size`` problems of z0, q0, y_d are real, the rest pad them to :func:`_capacity`. The vmap is over the
+    lanes only: the algorithm and the step mode stay unbatched, so their branches are real ``lax.switch`` and
+    ``lax.cond``."""
 
     def advance(lanes: _Lanes) -> _Lanes:
         held = lanes.problem < size
@@ -110,7 +112,7 @@ def _rounds(setting, kernel, rounds, lanes, size, z0, q0, y_d, *arguments):
         # the stopped lanes take the next problems in order
         fresh = lanes.following + jnp.cumsum(stopped) - 1
         problem = jnp.where(stopped, jnp.where(fresh < size, fresh, size), lanes.problem)
-        loaded = start(z0[jnp.where(problem < size, problem, 0)])
+        loaded = _initial(kernel, z0[jnp.where(problem < size, problem, 0)])
         state = jax.tree.map(
             lambda a, b: jnp.where(stopped.reshape((-1,) + (1,) * (a.ndim - 1)), b, a), state, loaded
         )
@@ -122,6 +124,11 @@ def _rounds(setting, kernel, rounds, lanes, size, z0, q0, y_d, *arguments):
 
     lanes, _ = jax.lax.while_loop(running, lambda c: (advance(c[0]), c[1] + 1), (lanes, jnp.asarray(0)))
     return lanes
+
+
+def _initial(kernel: Kernel, z0: jax.Array) -> Plan:
+    """The states before the first iteration of problems starting at z0 (n, n_z)."""
+    return jax.vmap(lambda z: initial_state(kernel, z))(z0)
 
 
 def _capacity(size: int) -> int:
@@ -166,8 +173,9 @@ def plan_batch(
         n, lanes = problems.size, min(BLOCK, problems.size)
         padded = np.resize(problems, _capacity(n))  # the padding is never started
         z, q, y = (jnp.asarray(a[padded]) for a in (z0, q0, y_d))
-        start = jax.vmap(lambda zz: initial_state(kernel, zz))
-        carry = _Lanes(jnp.arange(lanes), start(z[:lanes]), start(z), jnp.asarray(lanes))
+        carry = _Lanes(
+            jnp.arange(lanes), _initial(kernel, z[:lanes]), _initial(kernel, z), jnp.asarray(lanes)
+        )
         while True:
             carry = _rounds(setting, kernel, ROUNDS, carry, n, z, q, y, *arguments)
             if not bool(jnp.any(carry.problem < n)):
