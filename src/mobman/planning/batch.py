@@ -4,8 +4,8 @@ A ``vmap`` of the whole ``while_loop`` would compute every problem until the slo
 while most converge in a few iterations). Here a block of :data:`BLOCK` lanes makes one :func:`iteration` of
 the problem each holds (``vmap`` over lanes) inside one compiled loop; a lane whose problem stops writes its
 result and takes the next problem not yet started, so the lanes stay full until the last problems. The loop
-runs :data:`ROUNDS` iterations per call (Python sees the progress and a Ctrl-C between calls), and the
-problems are dealt to one such loop per core. Each problem goes through the same iterations as
+runs at most :data:`ROUNDS` iterations per compiled call (a call stays short) and resumes from its carry, and
+the problems are dealt to one such loop per core. Each problem goes through the same iterations as
 :func:`mobman.planning.algorithms.plan`, so its status, iterations, z and error history are the same."""
 
 from __future__ import annotations
