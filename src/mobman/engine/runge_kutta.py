@@ -2,7 +2,7 @@
 
 The definition (:mod:`mobman.integration`) writes the stages out one after the other, so a traced f appears s
 times in the compiled program. Here the stages run in one ``lax.scan`` over the rows of the tableau (the index
-i and one-hot row e_i that store k_i into a buffer of the s slopes, the rows α^e_i, the node c_i): f is traced
+i that stores k_i into a buffer of the s slopes, the rows α^e_i, the node c_i): f is traced
 once, and the compiled program and its compilation time stay those of one evaluation of f whatever the number
 of stages. The stages' aux are written as one flat vector per stage (``ravel_pytree``): one output buffer
 instead of one per entry. Same values as the definition to rounding, and the same derivatives
@@ -35,13 +35,15 @@ they touch is at most this size (or there are at most 8 of them); otherwise it s
 over a thread pool, which costs more than these tiny kernels."""
 
 
-def _store(buffer: jnp.ndarray, index: jnp.ndarray, onehot: jnp.ndarray, k: jnp.ndarray) -> jnp.ndarray:
-    """The slope buffer with k as row ``index``: for a small buffer as buffer + e_i k (elementwise, fused with
-    its neighbours, under :data:`SMALL_BUFFER_BYTES`), for a larger one as an in-place row update (a
-    one-hot product would sweep the whole buffer at every stage)."""
+def _store(buffer: jnp.ndarray, index: jnp.ndarray, k: jnp.ndarray) -> jnp.ndarray:
+    """The slope buffer with k as row ``index``: for a small buffer as a select of the row e_i (elementwise,
+    fused with its neighbours, under :data:`SMALL_BUFFER_BYTES`), for a larger one as an in-place row update
+    (a select would sweep the whole buffer at every stage). The update is a plain dynamic slice, without the
+    bounds check that ``buffer.at[index].set`` compiles to (a kernel of its own in the stage loop)."""
     if buffer.size * buffer.dtype.itemsize <= SMALL_BUFFER_BYTES:
-        return buffer + onehot.reshape((-1,) + (1,) * jnp.ndim(k)) * k
-    return buffer.at[index].set(k)
+        row = jnp.arange(buffer.shape[0]) == index
+        return jnp.where(row.reshape((-1,) + (1,) * jnp.ndim(k)), k, buffer)
+    return jax.lax.dynamic_update_index_in_dim(buffer, k, index, 0)
 
 
 def step_path(
@@ -72,20 +74,20 @@ def step_path(
     unravel: list[Callable] = []  # set while the stage is traced: how to split a stage's flat aux vector back
 
     def stage(slopes, row):
-        index, onehot, alphas, c_i, u_i = row
+        index, alphas, c_i, u_i = row
         y_i = y
         for e in range(A.shape[0]):
             y_i = exp(y_i, _combination(h, alphas[e], slopes))
         out = f_of_row(t + c_i * h, y_i, u_i)
         k_i, aux = out if has_aux else (out, None)
-        slopes = jax.tree.map(lambda buffer, k: _store(buffer, index, onehot, k), slopes, k_i)
+        slopes = jax.tree.map(lambda buffer, k: _store(buffer, index, k), slopes, k_i)
         if not has_aux:
             return slopes, None
         sample, split = ravel_pytree(aux)
         unravel[:] = [split]
         return slopes, sample
 
-    rows = (np.arange(stages), np.eye(stages), np.transpose(A, (1, 0, 2)), c, inputs)
+    rows = (np.arange(stages), np.transpose(A, (1, 0, 2)), c, inputs)
     slopes, samples = jax.lax.scan(stage, slopes, rows)
     points = [y]
     for beta in b:
@@ -114,6 +116,12 @@ def step(
     return (y_next, aux) if has_aux else y_next
 
 
+def _row(a: jnp.ndarray, i: jax.Array) -> jnp.ndarray:
+    """Row i of a, i a stage index in range: a plain dynamic slice, without the bounds checks and the
+    wrapping of negative indices that ``a[i]`` compiles to (each a kernel of its own in the stage loop)."""
+    return jax.lax.dynamic_index_in_dim(a, i, 0, keepdims=False)
+
+
 def _additive_step(tab: AnyTableau, f: Callable, y: Any, t: Any, h: Any, inputs: Any) -> Any:
     """One explicit step y + h Σ b_j k_j, k_i = f(t + c_i h, y + h Σ_j a_ij k_j[, inputs[i]]), the stages in a
     ``fori_loop``: f traced once, each stage's slope stored in place."""
@@ -122,14 +130,14 @@ def _additive_step(tab: AnyTableau, f: Callable, y: Any, t: Any, h: Any, inputs:
     rows, nodes = jnp.asarray(A[0]), jnp.asarray(c)
 
     def f_of(i, s, x):
-        return f(s, x) if inputs is None else f(s, x, jax.tree.map(lambda u: u[i], inputs))
+        return f(s, x) if inputs is None else f(s, x, jax.tree.map(lambda u: _row(u, i), inputs))
 
     shapes = jax.eval_shape(lambda x: f_of(0, t, x), y)
     slopes = jax.tree.map(lambda a: jnp.zeros((stages,) + a.shape, a.dtype), shapes)
 
     def stage(i, slopes):
-        k_i = f_of(i, t + nodes[i] * h, add(y, _combination(h, rows[i], slopes)))
-        return jax.tree.map(lambda buffer, k: buffer.at[i].set(k), slopes, k_i)
+        k_i = f_of(i, t + _row(nodes, i) * h, add(y, _combination(h, _row(rows, i), slopes)))
+        return jax.tree.map(lambda buffer, k: _store(buffer, i, k), slopes, k_i)
 
     slopes = jax.lax.fori_loop(0, stages, stage, slopes)
     return add(y, _combination(h, jnp.asarray(b[0]), slopes))

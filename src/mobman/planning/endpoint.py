@@ -275,10 +275,15 @@ def variational_of_task(
         A = jax.jacfwd(lambda s: _velocity(setting, s, u))(q)
         B = platform.S(q)
         d_xi = matmul(A, xi) + (B[:, :, None] * phi[None, None, :]).reshape(n_p, -1)  # B (I_m ⊗ φᵀ)
-        d_mob = matmul(A, mob) + matmul(mob, A.T) + matmul(B, B.T) if with_mobility else mob
+        d_mob = matmul(A, mob) + matmul(mob, A.T) + matmul(B, B.T) if with_mobility else None
         return _velocity(setting, q, u), d_xi, d_mob
 
-    start = (q0, jnp.zeros((n_p, z.shape[0] - setting.n_joints)), jnp.zeros((n_p, n_p)))
+    # without 𝓜 its slot is None: nothing integrated, no slope buffer
+    start = (
+        q0,
+        jnp.zeros((n_p, z.shape[0] - setting.n_joints)),
+        jnp.zeros((n_p, n_p)) if with_mobility else None,
+    )
     (q_T, xi, mob), _ = _integrate(setting, rhs, start)
     y = _output(setting, task, q_T, x)
     C, D = _output_derivatives(setting, task, q_T, x)
