@@ -276,3 +276,39 @@ def test_importing_mobman_makes_cpu_dispatch_synchronous_unless_asked_not_to(env
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == expected
     assert ("MOBMAN_CPU_ASYNC_DISPATCH must be" in out.stderr) == (environment == "maybe")
+
+
+_SMALL_LOOP = (
+    "import jax, jax.numpy as jnp, mobman\n"
+    "loop = jax.jit(lambda x: jax.lax.fori_loop(0, 5, lambda i, y: jnp.sin(y) * 2.0 + y, x))\n"
+    "print('xla_cpu_small_call' in loop.lower(jnp.ones(512)).compile().as_text())"
+)
+
+
+@pytest.mark.parametrize(
+    ("switch", "flags", "expected"),
+    [
+        (None, None, "True"),
+        ("1", "--xla_cpu_enable_fast_math=false", "True"),
+        ("0", None, "False"),
+        ("no", None, "False"),
+        ("maybe", None, "True"),
+        (None, "--xla_backend_extra_options=xla_cpu_small_while_loop_byte_threshold=0", "False"),
+    ],
+)
+def test_importing_mobman_makes_small_while_loops_one_kernel_unless_asked_not_to(switch, flags, expected):
+    """A loop over 4 kB (above XLA's own 1 kB threshold) is compiled as one kernel (XLA marks it
+    ``xla_cpu_small_call``) once mobman is imported; not with ``MOBMAN_XLA_SMALL_LOOPS=0``, and not where
+    ``XLA_FLAGS`` already sets XLA's backend options (the user's threshold stands); other flags are kept. A
+    value that is not a yes or no is a warning naming the variable."""
+    env = {k: v for k, v in os.environ.items() if k not in ("MOBMAN_XLA_SMALL_LOOPS", "XLA_FLAGS")}
+    if switch is not None:
+        env["MOBMAN_XLA_SMALL_LOOPS"] = switch
+    if flags is not None:
+        env["XLA_FLAGS"] = flags
+    out = subprocess.run(
+        [sys.executable, "-c", _SMALL_LOOP], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == expected
+    assert ("MOBMAN_XLA_SMALL_LOOPS must be" in out.stderr) == (switch == "maybe")

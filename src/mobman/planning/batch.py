@@ -73,8 +73,9 @@ class BatchResult:
 
 BLOCK = 8
 """Lanes one compiled loop advances together (fewer when the batch is smaller): vectorised over 8 problems an
-iteration costs about 0.45 of its one-problem time per problem on the CPU; 4, 6, 7, 9, 10 and 12 lanes were
-slower per problem (benchmarks/planning.py)."""
+iteration costs about 0.4 of its one-problem time per problem on the CPU; 4 lanes were as fast, 6 slower, and
+12 or 16 three times slower per problem, their loops too large for XLA to compile as one kernel
+(``mobman.SMALL_LOOP_BYTES``; benchmarks/planning.py)."""
 
 ROUNDS = 64
 """Iterations of the lanes per compiled call (about 0.2 s for 8 lanes of the §4 problems)."""
