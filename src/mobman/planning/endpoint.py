@@ -287,7 +287,7 @@ def variational_of_task(
     (q_T, xi, mob), _ = _integrate(setting, rhs, start)
     y = _output(setting, task, q_T, x)
     C, D = _output_derivatives(setting, task, q_T, x)
-    return Variational(y, jnp.concatenate([C @ xi, D], axis=1), C, D, xi, mob if with_mobility else None, q_T)
+    return Variational(y, jnp.concatenate([C @ xi, D], axis=1), C, D, xi, mob, q_T)
 
 
 @partial(jax.jit, static_argnums=(0, 3))
